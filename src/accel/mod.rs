@@ -1,0 +1,146 @@
+//! Finding the closest object along a ray: the lecture's "for every object" loop
+//! ([`AccelKind::Linear`]) or a bounding volume hierarchy over the objects' world bounds
+//! ([`AccelKind::Bvh`], meshes carrying their own BVH over their triangles inside).
+
+mod bvh;
+
+pub use bvh::{Bvh, Node};
+
+use crate::math::Ray;
+use crate::scene::Object;
+use crate::shapes::{Aabb, LocalHit};
+use crate::trace::Recorder;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum AccelKind {
+    Linear,
+    Bvh,
+}
+
+impl AccelKind {
+    pub fn parse(s: &str) -> Option<AccelKind> {
+        match s {
+            "linear" => Some(AccelKind::Linear),
+            "bvh" => Some(AccelKind::Bvh),
+            _ => None,
+        }
+    }
+}
+
+/// The acceleration structure of a scene.
+#[derive(Debug, Clone, Default)]
+pub struct Accel {
+    pub linear: bool,
+    pub bvh: Bvh,
+    /// Objects in the BVH, by BVH primitive index.
+    pub bounded: Vec<usize>,
+    /// Objects without bounds (planes): always tested.
+    pub unbounded: Vec<usize>,
+}
+
+// ANCHOR: object_test
+/// Tests one object: the world ray goes into object space (t is shared, see [`Ray`]), the
+/// shape's own routine runs with the recorder's observer, and the recorder hears the verdict.
+#[inline]
+pub fn test_object<R: Recorder>(
+    objects: &[Object],
+    i: usize,
+    ray: &Ray,
+    t_min: f64,
+    t_max: f64,
+    rec: &mut R,
+) -> Option<LocalHit> {
+    let object = &objects[i];
+    let local_ray = object.transform.ray_to_object(ray);
+    let hit = object
+        .shape
+        .intersect(&local_ray, t_min, t_max, rec.observer());
+    rec.tested(i, hit.map(|h| h.t), t_max, &local_ray);
+    hit
+}
+// ANCHOR_END: object_test
+
+impl Accel {
+    pub fn build(kind: AccelKind, objects: &[Object]) -> Accel {
+        let mut accel = Accel {
+            linear: kind == AccelKind::Linear,
+            ..Default::default()
+        };
+        let mut boxes: Vec<Aabb> = Vec::new();
+        for (i, o) in objects.iter().enumerate() {
+            match o.bounds {
+                Some(b) if !accel.linear => {
+                    accel.bounded.push(i);
+                    boxes.push(b);
+                }
+                _ => accel.unbounded.push(i),
+            }
+        }
+        if !accel.linear {
+            accel.bvh = Bvh::build(&boxes);
+        }
+        accel
+    }
+
+    // ANCHOR: closest
+    /// The closest hit with t in [t_min, t_max]: each test narrows t_max to the best t so far.
+    pub fn closest<R: Recorder>(
+        &self,
+        objects: &[Object],
+        ray: &Ray,
+        t_min: f64,
+        mut t_max: f64,
+        rec: &mut R,
+    ) -> Option<(usize, LocalHit)> {
+        let mut best = None;
+        for &i in &self.unbounded {
+            if let Some(h) = test_object(objects, i, ray, t_min, t_max, rec) {
+                t_max = h.t;
+                best = Some((i, h));
+            }
+        }
+        if self.bvh.nodes.is_empty() {
+            return best;
+        }
+        let mut visited = 0;
+        let found = self
+            .bvh
+            .closest_counted(ray, t_min, t_max, &mut visited, |p, t_max| {
+                let i = self.bounded[p];
+                test_object(objects, i, ray, t_min, t_max, rec).map(|h| (h.t, h))
+            });
+        rec.nodes_visited(visited);
+        found.map(|(p, _, h)| (self.bounded[p], h)).or(best)
+    }
+    // ANCHOR_END: closest
+
+    /// Any hit with t in [t_min, t_max] (shadow rays): the first object found, not the closest.
+    pub fn occluded<R: Recorder>(
+        &self,
+        objects: &[Object],
+        ray: &Ray,
+        t_min: f64,
+        t_max: f64,
+        rec: &mut R,
+    ) -> Option<(usize, LocalHit)> {
+        for &i in &self.unbounded {
+            if let Some(h) = test_object(objects, i, ray, t_min, t_max, rec) {
+                return Some((i, h));
+            }
+        }
+        let mut visited = 0;
+        let mut found = None;
+        self.bvh.any(ray, t_min, t_max, &mut visited, |p| {
+            let i = self.bounded[p];
+            match test_object(objects, i, ray, t_min, t_max, rec) {
+                Some(h) => {
+                    found = Some((i, h));
+                    true
+                }
+                None => false,
+            }
+        });
+        rec.nodes_visited(visited);
+        found
+    }
+}

@@ -1,0 +1,191 @@
+//! Ray generation, exactly as the lecture builds it, each stage a named step:
+//! sample position in the pixel → normalised film point (x, y in [−1, 1], z = −1 on the far
+//! plane of the canonical view frustum) → world space through the inverse of the normalising
+//! transformation → direction = world film point − eye (then made unit length).
+
+use crate::math::{Ray, Rng};
+use glam::{DMat4, DVec2, DVec3, DVec4};
+use serde::Serialize;
+
+/// A pinhole camera (a thin lens when `aperture` > 0), validated: unit basis, 0 < fov < 180.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Camera {
+    pub position: DVec3,
+    pub look_at: DVec3,
+    pub up: DVec3,
+    /// Full vertical field of view, degrees.
+    pub fov_y: f64,
+    pub width: u32,
+    pub height: u32,
+    /// Lens diameter for depth of field (0: pinhole).
+    pub aperture: f64,
+    /// Distance from the eye to the plane in focus.
+    pub focal_distance: f64,
+    /// Inverse of the normalising transformation: canonical frustum → world.
+    pub world_from_canonical: DMat4,
+    /// Camera basis: u right, v up, w backwards (the camera looks down −w).
+    pub basis: [DVec3; 3],
+}
+
+/// Every stage of generating one ray, for `explain` (DESIGN §3 `camera`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct RayGeneration {
+    /// Sample position in pixel units (x from the left, y from the top).
+    pub film: DVec2,
+    /// Normalised device coordinates: x, y in [−1, 1], y up.
+    pub ndc: DVec2,
+    /// The point on the canonical frustum's far plane, (x, y, −1).
+    pub film_point: DVec3,
+    /// That point taken back to world space.
+    pub world_point: DVec3,
+    pub origin: DVec3,
+    /// Unit direction of the ray.
+    pub direction: DVec3,
+}
+
+impl Camera {
+    /// Builds the camera. Fails with a reason when the view is degenerate.
+    pub fn new(
+        position: DVec3,
+        look_at: DVec3,
+        up: DVec3,
+        fov_y: f64,
+        width: u32,
+        height: u32,
+    ) -> Result<Camera, String> {
+        Self::from_look(position, look_at - position, up, fov_y, width, height)
+    }
+
+    /// As [`Camera::new`], from a view *direction* instead of a point.
+    pub fn from_look(
+        position: DVec3,
+        look: DVec3,
+        up: DVec3,
+        fov_y: f64,
+        width: u32,
+        height: u32,
+    ) -> Result<Camera, String> {
+        if !(fov_y > 0.0 && fov_y < 180.0) {
+            return Err(format!(
+                "field of view must be between 0 and 180 degrees (exclusive), found {fov_y}"
+            ));
+        }
+        let w = -look
+            .try_normalize()
+            .ok_or("the camera looks at its own position: the view direction is zero")?;
+        let up_n = up.try_normalize().ok_or("the up vector is zero")?;
+        if up_n.cross(w).length() < 1e-9 {
+            return Err(
+                "the up vector is parallel to the view direction: the image has no 'up'".into(),
+            );
+        }
+        let v = (up_n - up_n.dot(w) * w).normalize();
+        let u = v.cross(w);
+        let mut cam = Camera {
+            position,
+            look_at: position + look,
+            up,
+            fov_y,
+            width,
+            height,
+            aperture: 0.0,
+            focal_distance: look.length(),
+            world_from_canonical: DMat4::IDENTITY,
+            basis: [u, v, w],
+        };
+        cam.update_size(width, height);
+        Ok(cam)
+    }
+
+    /// Sets the image size (the horizontal field of view follows from the aspect ratio).
+    pub fn update_size(&mut self, width: u32, height: u32) {
+        self.width = width;
+        self.height = height;
+        let tan_h = (self.fov_y.to_radians() / 2.0).tan();
+        let tan_w = tan_h * width as f64 / height as f64;
+        let [u, v, w] = self.basis;
+        // ANCHOR: normalising
+        // The normalising transformation is S · R · T: translate the eye to the origin, rotate
+        // the basis (u, v, w) onto (x, y, z), scale so the far plane (at distance 1) spans
+        // [−1, 1]². Its inverse T⁻¹ · R⁻¹ · S⁻¹ takes a film point back into the world.
+        let translate_inv = DMat4::from_translation(self.position);
+        let rotate_inv = DMat4::from_cols(u.extend(0.0), v.extend(0.0), w.extend(0.0), DVec4::W);
+        let scale_inv = DMat4::from_scale(DVec3::new(tan_w, tan_h, 1.0));
+        self.world_from_canonical = translate_inv * rotate_inv * scale_inv;
+        // ANCHOR_END: normalising
+    }
+
+    // ANCHOR: generate
+    /// The ray through film position `film` (pixel units, y down), with every stage recorded.
+    /// `lens` is a point in the unit square for depth of field (ignored for a pinhole).
+    pub fn generate(&self, film: DVec2, lens: Option<DVec2>) -> (Ray, RayGeneration) {
+        let ndc = DVec2::new(
+            2.0 * film.x / self.width as f64 - 1.0,
+            1.0 - 2.0 * film.y / self.height as f64,
+        );
+        let film_point = DVec3::new(ndc.x, ndc.y, -1.0);
+        let world_point = self.world_from_canonical.transform_point3(film_point);
+        let mut origin = self.position;
+        let mut direction = (world_point - self.position).normalize();
+        if let (Some(lens), true) = (lens, self.aperture > 0.0) {
+            // Thin lens: start on the aperture disc, aim at the point of the primary ray that
+            // lies on the plane in focus.
+            let focus =
+                self.position + direction * (self.focal_distance / direction.dot(-self.basis[2]));
+            let (r, phi) = (
+                (lens.x).sqrt() * self.aperture / 2.0,
+                lens.y * std::f64::consts::TAU,
+            );
+            origin =
+                self.position + self.basis[0] * (r * phi.cos()) + self.basis[1] * (r * phi.sin());
+            direction = (focus - origin).normalize();
+        }
+        let generation = RayGeneration {
+            film,
+            ndc,
+            film_point,
+            world_point,
+            origin,
+            direction,
+        };
+        (Ray::new(origin, direction), generation)
+    }
+    // ANCHOR_END: generate
+
+    /// The lens sample for a given random stream, `None` for a pinhole.
+    pub fn lens_sample(&self, enabled: bool, rng: &mut Rng) -> Option<DVec2> {
+        (enabled && self.aperture > 0.0).then(|| DVec2::new(rng.next_f64(), rng.next_f64()))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    #[test]
+    fn centre_pixel_looks_at_target_and_corners_span_fov() {
+        let cam = Camera::new(
+            DVec3::new(0.0, 0.0, 5.0),
+            DVec3::ZERO,
+            DVec3::Y,
+            90.0,
+            100,
+            100,
+        )
+        .unwrap();
+        let (ray, g) = cam.generate(DVec2::new(50.0, 50.0), None);
+        assert!((ray.dir - DVec3::NEG_Z).length() < 1e-12);
+        assert_eq!(g.film_point, DVec3::new(0.0, 0.0, -1.0));
+        // Top-left corner of the film: ndc (-1, 1); 90° fov puts it at 45° in both axes.
+        let (ray, g) = cam.generate(DVec2::new(0.0, 0.0), None);
+        assert_eq!(g.ndc, DVec2::new(-1.0, 1.0));
+        assert!((g.world_point - DVec3::new(-1.0, 1.0, 4.0)).length() < 1e-12);
+        assert!((ray.dir - DVec3::new(-1.0, 1.0, -1.0).normalize()).length() < 1e-12);
+    }
+    #[test]
+    fn degenerate_cameras_are_refused() {
+        assert!(Camera::new(DVec3::ZERO, DVec3::ZERO, DVec3::Y, 45.0, 10, 10).is_err());
+        assert!(Camera::new(DVec3::Y, DVec3::ZERO, DVec3::Y, 45.0, 10, 10).is_err());
+        assert!(Camera::new(DVec3::Z, DVec3::ZERO, DVec3::Y, 180.0, 10, 10).is_err());
+        assert!(Camera::new(DVec3::Z, DVec3::ZERO, DVec3::Y, 0.0, 10, 10).is_err());
+    }
+}

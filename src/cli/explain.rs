@@ -1,0 +1,192 @@
+//! `rtlab explain`: the ray tree of one pixel, from the same tracer `render` runs.
+//!
+//! Output format (DESIGN §3, version 1): `{"pixel", "color", "encoded", "samples": [{"index",
+//! "film", "weight", "color", "camera", "ray"}]}` with `ray` a [`RayNode`] tree. JSON and YAML
+//! carry full f64 precision; `--format text` is the readable form.
+
+use super::RenderArgs;
+use crate::error::{Error, Result};
+use crate::sampling::{encode, pixel_samples, Filter};
+use crate::scene::Scene;
+use crate::trace::{trace_sample, RayNode, TreeRecorder};
+use glam::{DVec2, DVec3};
+use serde::Serialize;
+use std::cell::RefCell;
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Scene file: native rtlab JSON or a CS1230 scenefile.
+    pub scene: PathBuf,
+    /// The pixel: x from the left, y from the top.
+    #[arg(long, value_name = "X,Y")]
+    pub pixel: String,
+    /// Show only this sample of the pixel (0-based).
+    #[arg(long, value_name = "K")]
+    pub sample: Option<u32>,
+    /// text (default), json or yaml.
+    #[arg(long, default_value = "text")]
+    pub format: String,
+    #[command(flatten)]
+    pub render: RenderArgs,
+}
+
+/// The ray-generation walk of one sample.
+#[derive(Debug, Clone, Serialize)]
+pub struct CameraNode {
+    pub ndc: DVec2,
+    pub film_point: DVec3,
+    pub world_point: DVec3,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct SampleNode {
+    pub index: u32,
+    /// The pixel this sample belongs to (a neighbour's when the filter reaches across).
+    pub pixel: [u32; 2],
+    pub film: DVec2,
+    /// Normalised filter weight of this sample in the explained pixel.
+    pub weight: f64,
+    pub color: DVec3,
+    pub camera: CameraNode,
+    pub ray: RayNode,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct Explanation {
+    pub pixel: [u32; 2],
+    pub color: DVec3,
+    pub encoded: [u8; 3],
+    pub samples: Vec<SampleNode>,
+}
+
+/// Explains pixel (x, y): traces every sample that reaches it with a [`TreeRecorder`] and
+/// reconstructs the pixel with the same filter code `render` uses.
+pub fn explain(scene: &Scene, x: u32, y: u32) -> Explanation {
+    let s = &scene.render;
+    let (w, h) = (scene.camera.width, scene.camera.height);
+    let traced: RefCell<BTreeMap<(u32, u32, u32), SampleNode>> = RefCell::new(BTreeMap::new());
+    let filter = Filter::new(s.filter);
+    let (color, weights) = crate::sampling::render_reconstruct(&filter, x, y, w, h, |qx, qy| {
+        pixel_samples(s.sampler, s.spp, s.seed, qx, qy)
+            .into_iter()
+            .enumerate()
+            .map(|(k, film)| {
+                let mut rec = TreeRecorder::new(scene);
+                let r = trace_sample(scene, s, qx, qy, k as u32, film, &mut rec);
+                let color = if r.color.is_finite() {
+                    r.color
+                } else {
+                    DVec3::ZERO
+                };
+                let g = r.generation;
+                traced.borrow_mut().insert(
+                    (qy, qx, k as u32),
+                    SampleNode {
+                        index: k as u32,
+                        pixel: [qx, qy],
+                        film,
+                        weight: 0.0,
+                        color,
+                        camera: CameraNode {
+                            ndc: g.ndc,
+                            film_point: g.film_point,
+                            world_point: g.world_point,
+                        },
+                        ray: rec.root.expect("a camera ray was traced"),
+                    },
+                );
+                (film, color)
+            })
+            .collect()
+    });
+    let mut traced = traced.into_inner();
+    let samples = weights
+        .into_iter()
+        .filter_map(|(qx, qy, k, wt)| {
+            let mut node = traced.remove(&(qy, qx, k as u32))?;
+            node.weight = wt;
+            Some(node)
+        })
+        .collect();
+    Explanation {
+        pixel: [x, y],
+        color,
+        encoded: encode(color, s.encoding),
+        samples,
+    }
+}
+
+/// Parses and checks `--pixel X,Y` against the image size.
+pub fn parse_pixel(s: &str, width: u32, height: u32) -> Result<(u32, u32)> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    let bad = || {
+        Error::arg(
+            "--pixel",
+            format!("expected two whole numbers X,Y (e.g. --pixel 120,80), found \"{s}\""),
+        )
+    };
+    if parts.len() != 2 {
+        return Err(bad());
+    }
+    let x: i64 = parts[0].parse().map_err(|_| bad())?;
+    let y: i64 = parts[1].parse().map_err(|_| bad())?;
+    if x < 0 || y < 0 || x >= width as i64 || y >= height as i64 {
+        return Err(Error::arg(
+            "--pixel",
+            format!(
+                "({x}, {y}) is outside the {width}×{height} image (x must be 0..{}, y 0..{})",
+                width - 1,
+                height - 1
+            ),
+        ));
+    }
+    Ok((x as u32, y as u32))
+}
+
+pub fn run(args: Args) -> Result<()> {
+    if !["text", "json", "yaml"].contains(&args.format.as_str()) {
+        return Err(Error::arg(
+            "--format",
+            format!(
+                "unknown format \"{}\" (expected text, json or yaml)",
+                args.format
+            ),
+        ));
+    }
+    let scene = args.render.load(&args.scene)?;
+    let (x, y) = parse_pixel(&args.pixel, scene.camera.width, scene.camera.height)?;
+    let spp = pixel_samples(
+        scene.render.sampler,
+        scene.render.spp,
+        scene.render.seed,
+        x,
+        y,
+    )
+    .len() as u32;
+    if let Some(k) = args.sample {
+        if k >= spp {
+            return Err(Error::arg(
+                "--sample",
+                format!(
+                    "sample {k} does not exist: pixel ({x}, {y}) has {spp} sample(s), 0..{}",
+                    spp - 1
+                ),
+            ));
+        }
+    }
+    let mut e = explain(&scene, x, y);
+    if let Some(k) = args.sample {
+        e.samples.retain(|s| s.pixel == [x, y] && s.index == k);
+    }
+    match args.format.as_str() {
+        "json" => println!(
+            "{}",
+            serde_json::to_string_pretty(&e).expect("serialisable")
+        ),
+        "yaml" => print!("{}", serde_yaml::to_string(&e).expect("serialisable")),
+        _ => print!("{}", crate::cli::explain_text::text(&scene, &e)),
+    }
+    Ok(())
+}

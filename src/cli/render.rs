@@ -1,0 +1,140 @@
+//! `rtlab render`: the image.
+
+use super::{default_output, RenderArgs};
+use crate::error::{Error, Result};
+use crate::output::{check_png, write_png};
+use crate::sampling::render;
+use serde_json::json;
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::time::Instant;
+
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Scene file: native rtlab JSON or a CS1230 scenefile.
+    pub scene: PathBuf,
+    /// Output PNG (default: <scene name>.png in the current folder).
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+    #[command(flatten)]
+    pub render: RenderArgs,
+    /// Worker threads (default: all cores). The image is the same for any count.
+    #[arg(long, value_name = "N")]
+    pub threads: Option<usize>,
+    /// Print ray counts and timings: text (default) on stderr, or json on stdout.
+    #[arg(long, value_name = "text|json", num_args = 0..=1, default_missing_value = "text")]
+    pub stats: Option<String>,
+    /// No progress bar.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+/// Runs `f` on a thread pool of `threads` workers (or rayon's default).
+pub fn with_threads<T: Send>(threads: Option<usize>, f: impl FnOnce() -> T + Send) -> Result<T> {
+    match threads {
+        None => Ok(f()),
+        Some(0) => Err(Error::arg("--threads", "must be at least 1")),
+        Some(n) => {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .map_err(|e| Error::arg("--threads", format!("cannot start {n} threads: {e}")))?;
+            Ok(pool.install(f))
+        }
+    }
+}
+
+pub fn run(args: Args) -> Result<()> {
+    let stats_format = match args.stats.as_deref() {
+        None => None,
+        Some(f @ ("text" | "json")) => Some(f.to_string()),
+        Some(other) => {
+            return Err(Error::arg(
+                "--stats",
+                format!("unknown format \"{other}\" (expected text or json)"),
+            ))
+        }
+    };
+    let out = default_output(&args.scene, args.output.clone(), "");
+    check_png(&out, "-o")?;
+    let t0 = Instant::now();
+    let scene = args.render.load(&args.scene)?;
+    let load = t0.elapsed().as_secs_f64();
+    // The accelerator is built during load; time it separately for the stats.
+    let t1 = Instant::now();
+    let build = {
+        let mut s = scene.clone();
+        s.rebuild_accel();
+        t1.elapsed().as_secs_f64()
+    };
+
+    let bar = (!args.quiet && std::io::stderr().is_terminal()).then(|| {
+        let bar = indicatif::ProgressBar::new(scene.camera.height as u64);
+        bar.set_style(
+            indicatif::ProgressStyle::with_template(
+                "{spinner} rendering [{bar:40}] {pos}/{len} rows {elapsed} (eta {eta})",
+            )
+            .expect("valid template")
+            .progress_chars("=> "),
+        );
+        bar
+    });
+    let result = with_threads(args.threads, || {
+        render(&scene, &scene.render, stats_format.is_some(), bar.as_ref())
+    })?;
+    if let Some(b) = bar {
+        b.finish_and_clear();
+    }
+    if let Some((x, y, k)) = result.first_nan {
+        eprintln!(
+            "warning: sample {k} of pixel ({x}, {y}) came out as NaN or infinity and was counted as black; this is a bug in rtlab. \
+             Reproduce it with: rtlab explain {} --pixel {x},{y} --sample {k}",
+            args.scene.display()
+        );
+    }
+    write_png(&out, &result.image.to_rgb8(scene.render.encoding))?;
+
+    if let (Some(format), Some(stats)) = (stats_format, &result.stats) {
+        let trace = result.trace_seconds;
+        let mrays = stats.rays.total as f64 / trace.max(1e-9) / 1e6;
+        if format == "json" {
+            let v = json!({
+                "rays": stats.rays,
+                "tests": stats.tests,
+                "bvh_nodes": stats.nodes,
+                "seconds": {"load": load, "build": build, "trace": trace},
+                "mrays_per_s": mrays,
+                "width": scene.camera.width,
+                "height": scene.camera.height,
+                "spp": scene.render.spp,
+                "output": out.display().to_string(),
+            });
+            println!(
+                "{}",
+                serde_json::to_string_pretty(&v).expect("serialisable")
+            );
+        } else {
+            let r = stats.rays;
+            eprintln!(
+                "rays: {} camera, {} shadow, {} reflection, {} refraction, {} total\n\
+                 intersection tests: {}, BVH nodes visited: {}\n\
+                 time: load {:.3} s, build {:.3} s, trace {:.3} s ({:.2} Mrays/s)",
+                r.camera,
+                r.shadow,
+                r.reflection,
+                r.refraction,
+                r.total,
+                stats.tests,
+                stats.nodes,
+                load,
+                build,
+                trace,
+                mrays
+            );
+        }
+    }
+    if !args.quiet {
+        eprintln!("wrote {}", out.display());
+    }
+    Ok(())
+}

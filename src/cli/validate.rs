@@ -1,0 +1,29 @@
+//! `rtlab validate`: load a scene and say whether it is valid.
+
+use crate::error::Result;
+use crate::scene::{Scene, SceneFormat};
+use std::path::PathBuf;
+
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Scene file to check.
+    pub scene: PathBuf,
+}
+
+pub fn run(args: Args) -> Result<()> {
+    let scene = Scene::load(&args.scene)?;
+    let format = match scene.format {
+        SceneFormat::Native => "rtlab scene",
+        SceneFormat::Cs1230 => "CS1230 scenefile",
+    };
+    println!(
+        "{}: valid {format}: {} object(s), {} light(s), {} material(s), {}×{} pixels",
+        args.scene.display(),
+        scene.objects.len(),
+        scene.lights.len(),
+        scene.materials.len() - 1,
+        scene.camera.width,
+        scene.camera.height
+    );
+    Ok(())
+}

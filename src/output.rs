@@ -1,0 +1,81 @@
+//! Writing files without ever leaving a half-written one: write to a temporary file in the
+//! destination folder, then rename it into place.
+
+use crate::error::{Error, Result};
+use std::io::Write;
+use std::path::Path;
+
+/// Checks that `path` can be written before any work is done (folder exists, not a folder).
+pub fn check_writable(path: &Path, arg: &str) -> Result<()> {
+    if path.is_dir() {
+        return Err(Error::arg(
+            arg,
+            format!("{} is a directory, expected a file name", path.display()),
+        ));
+    }
+    let dir = parent(path);
+    if !dir.is_dir() {
+        return Err(Error::arg(
+            arg,
+            format!(
+                "cannot write {}: the folder {} does not exist",
+                path.display(),
+                dir.display()
+            ),
+        ));
+    }
+    Ok(())
+}
+
+fn parent(path: &Path) -> &Path {
+    match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    }
+}
+
+/// Writes `bytes` to `path` atomically.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    let dir = parent(path);
+    let mut tmp = tempfile::Builder::new()
+        .prefix(".rtlab-")
+        .suffix(".tmp")
+        .tempfile_in(dir)
+        .map_err(|e| Error::io(path, format!("cannot write: {e}")))?;
+    tmp.write_all(bytes)
+        .map_err(|e| Error::io(path, format!("cannot write: {e}")))?;
+    tmp.as_file().sync_all().ok();
+    tmp.persist(path)
+        .map_err(|e| Error::io(path, format!("cannot write: {}", e.error)))?;
+    Ok(())
+}
+
+/// Encodes an RGB image as PNG and writes it atomically.
+pub fn write_png(path: &Path, img: &image::RgbImage) -> Result<()> {
+    let mut bytes = Vec::new();
+    img.write_to(
+        &mut std::io::Cursor::new(&mut bytes),
+        image::ImageFormat::Png,
+    )
+    .map_err(|e| Error::io(path, format!("cannot encode PNG: {e}")))?;
+    write_atomic(path, &bytes)
+}
+
+/// Refuses output names whose extension rtlab cannot write.
+pub fn check_png(path: &Path, arg: &str) -> Result<()> {
+    match path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(|e| e.to_ascii_lowercase())
+    {
+        Some(e) if e == "png" => check_writable(path, arg),
+        Some(e) => Err(Error::arg(
+            arg,
+            format!("cannot write .{e} images: use a .png file name"),
+        )),
+        None => Err(Error::arg(
+            arg,
+            format!("{} has no extension: use a .png file name", path.display()),
+        )),
+    }
+}

@@ -1,0 +1,230 @@
+use super::{pixel_samples, Filter};
+use crate::scene::{Encoding, RenderSettings, Scene};
+use crate::trace::{trace_sample, Counter, NoRecorder, RayCounts, Recorder};
+use glam::{DVec2, DVec3};
+use rayon::prelude::*;
+use std::time::Instant;
+
+/// A linear-colour image, row-major from the top-left.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Image {
+    pub width: u32,
+    pub height: u32,
+    pub pixels: Vec<DVec3>,
+}
+
+impl Image {
+    pub fn get(&self, x: u32, y: u32) -> DVec3 {
+        self.pixels[(y * self.width + x) as usize]
+    }
+    /// The bytes of this image under an encoding (RGB, 3 bytes a pixel).
+    pub fn to_rgb8(&self, encoding: Encoding) -> image::RgbImage {
+        let mut out = image::RgbImage::new(self.width, self.height);
+        for (p, c) in out.pixels_mut().zip(&self.pixels) {
+            *p = image::Rgb(encode(*c, encoding));
+        }
+        out
+    }
+}
+
+// ANCHOR: encode
+/// One pixel's bytes. `Clamp`: floor(255·min(max(c, 0), 1)), no gamma, as the course's
+/// reference images are made. `Srgb`: the sRGB transfer curve, rounded.
+pub fn encode(c: DVec3, encoding: Encoding) -> [u8; 3] {
+    let f = |x: f64| -> u8 {
+        let x = if x.is_nan() { 0.0 } else { x.clamp(0.0, 1.0) };
+        match encoding {
+            Encoding::Clamp => (255.0 * x).floor() as u8,
+            Encoding::Srgb => {
+                let s = if x <= 0.003_130_8 {
+                    12.92 * x
+                } else {
+                    1.055 * x.powf(1.0 / 2.4) - 0.055
+                };
+                (255.0 * s).round() as u8
+            }
+        }
+    };
+    [f(c.x), f(c.y), f(c.z)]
+}
+// ANCHOR_END: encode
+
+/// What the counting recorder saw over a whole render.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct RenderStats {
+    pub rays: RayCounts,
+    pub tests: u64,
+    pub nodes: u64,
+    /// Intersection tests + BVH nodes per pixel (the `cost` AOV).
+    pub cost: Vec<u64>,
+}
+
+pub struct RenderOutput {
+    pub image: Image,
+    pub stats: Option<RenderStats>,
+    pub trace_seconds: f64,
+    /// The first sample whose colour was not finite: (x, y, sample index).
+    pub first_nan: Option<(u32, u32, u32)>,
+}
+
+/// A traced sample kept for reconstruction.
+#[derive(Debug, Clone, Copy)]
+struct Sample {
+    film: DVec2,
+    color: DVec3,
+}
+
+/// Renders the scene. With `count`, a [`Counter`] records rays, tests and nodes per pixel;
+/// otherwise the zero-cost [`NoRecorder`] runs. Rows are traced in parallel and gathered in
+/// order, and each sample's randomness depends only on its own key, so the result is the
+/// same on any number of threads.
+pub fn render(
+    scene: &Scene,
+    settings: &RenderSettings,
+    count: bool,
+    progress: Option<&indicatif::ProgressBar>,
+) -> RenderOutput {
+    if count {
+        render_with::<Counter>(scene, settings, progress)
+    } else {
+        render_with::<NoRecorder>(scene, settings, progress)
+    }
+}
+
+trait Tally: Recorder + Default + Send {
+    fn into_stats(self) -> Option<(RayCounts, u64, u64)>;
+}
+impl Tally for NoRecorder {
+    fn into_stats(self) -> Option<(RayCounts, u64, u64)> {
+        None
+    }
+}
+impl Tally for Counter {
+    fn into_stats(self) -> Option<(RayCounts, u64, u64)> {
+        Some((self.rays, self.tests, self.nodes))
+    }
+}
+
+fn render_with<R: Tally>(
+    scene: &Scene,
+    settings: &RenderSettings,
+    progress: Option<&indicatif::ProgressBar>,
+) -> RenderOutput {
+    let (w, h) = (scene.camera.width, scene.camera.height);
+    let start = Instant::now();
+    type Row = (
+        Vec<Vec<Sample>>,
+        Vec<Option<(RayCounts, u64, u64)>>,
+        Option<(u32, u32, u32)>,
+    );
+    let rows: Vec<Row> = (0..h)
+        .into_par_iter()
+        .map(|y| {
+            let mut samples = Vec::with_capacity(w as usize);
+            let mut stats = Vec::with_capacity(w as usize);
+            let mut nan = None;
+            for x in 0..w {
+                let mut rec = R::default();
+                let films = pixel_samples(settings.sampler, settings.spp, settings.seed, x, y);
+                let px: Vec<Sample> = films
+                    .iter()
+                    .enumerate()
+                    .map(|(k, &film)| {
+                        let r = trace_sample(scene, settings, x, y, k as u32, film, &mut rec);
+                        let mut color = r.color;
+                        if !color.is_finite() {
+                            nan.get_or_insert((x, y, k as u32));
+                            color = DVec3::ZERO;
+                        }
+                        Sample { film, color }
+                    })
+                    .collect();
+                samples.push(px);
+                stats.push(rec.into_stats());
+            }
+            if let Some(p) = progress {
+                p.inc(1);
+            }
+            (samples, stats, nan)
+        })
+        .collect();
+    let trace_seconds = start.elapsed().as_secs_f64();
+
+    let first_nan = rows.iter().find_map(|r| r.2);
+    let mut stats: Option<RenderStats> = None;
+    for (_, row_stats, _) in &rows {
+        for s in row_stats.iter().flatten() {
+            let st = stats.get_or_insert_with(RenderStats::default);
+            st.rays.add(&s.0);
+            st.tests += s.1;
+            st.nodes += s.2;
+            st.cost.push(s.1 + s.2);
+        }
+    }
+    let grid: Vec<&Vec<Sample>> = rows.iter().flat_map(|r| r.0.iter()).collect();
+    let filter = Filter::new(settings.filter);
+    let pixels = (0..h)
+        .into_par_iter()
+        .flat_map_iter(|y| {
+            let grid = &grid;
+            (0..w).map(move |x| {
+                reconstruct(&filter, x, y, w, h, |qx, qy| {
+                    grid[(qy * w + qx) as usize]
+                        .iter()
+                        .map(|s| (s.film, s.color))
+                        .collect()
+                })
+                .0
+            })
+        })
+        .collect();
+    RenderOutput {
+        image: Image {
+            width: w,
+            height: h,
+            pixels,
+        },
+        stats,
+        trace_seconds,
+        first_nan,
+    }
+}
+
+// ANCHOR: reconstruct
+/// Pixel (x, y) as the filter-weighted mean of every sample within the filter's reach,
+/// neighbours' samples included: Σ w(s − centre)·c(s) / Σ w. Returns the colour and the
+/// weight given to each sample, pixel by pixel (for `explain`).
+pub fn reconstruct(
+    filter: &Filter,
+    x: u32,
+    y: u32,
+    width: u32,
+    height: u32,
+    samples_of: impl Fn(u32, u32) -> Vec<(DVec2, DVec3)>,
+) -> (DVec3, Vec<(u32, u32, usize, f64)>) {
+    let centre = DVec2::new(x as f64 + 0.5, y as f64 + 0.5);
+    let reach = filter.reach();
+    let (mut sum, mut total) = (DVec3::ZERO, 0.0);
+    let mut weights = Vec::new();
+    for qy in (y as i64 - reach).max(0)..=(y as i64 + reach).min(height as i64 - 1) {
+        for qx in (x as i64 - reach).max(0)..=(x as i64 + reach).min(width as i64 - 1) {
+            for (k, (film, color)) in samples_of(qx as u32, qy as u32).into_iter().enumerate() {
+                let d = film - centre;
+                let w = filter.weight(d.x, d.y);
+                if w != 0.0 {
+                    sum += w * color;
+                    total += w;
+                    weights.push((qx as u32, qy as u32, k, w));
+                }
+            }
+        }
+    }
+    if total.abs() < 1e-12 {
+        return (DVec3::ZERO, weights);
+    }
+    for w in &mut weights {
+        w.3 /= total;
+    }
+    (sum / total, weights)
+}
+// ANCHOR_END: reconstruct

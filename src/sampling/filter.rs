@@ -1,0 +1,86 @@
+use crate::scene::FilterKind;
+
+/// A reconstruction filter: the weight of a sample at offset (dx, dy) from a pixel centre.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Filter {
+    pub kind: FilterKind,
+    /// Support radius in pixels: samples farther than this in x or y get weight 0.
+    pub radius: f64,
+}
+
+impl Filter {
+    pub fn new(kind: FilterKind) -> Filter {
+        let radius = match kind {
+            FilterKind::Box => 0.5,
+            FilterKind::Tent => 1.0,
+            FilterKind::Gaussian => 1.5,
+            FilterKind::Mitchell => 2.0,
+        };
+        Filter { kind, radius }
+    }
+
+    // ANCHOR: filter
+    /// Separable weight w(dx)·w(dy).
+    pub fn weight(&self, dx: f64, dy: f64) -> f64 {
+        self.weight_1d(dx) * self.weight_1d(dy)
+    }
+
+    fn weight_1d(&self, x: f64) -> f64 {
+        let x = x.abs();
+        if x > self.radius {
+            return 0.0;
+        }
+        match self.kind {
+            FilterKind::Box => 1.0,
+            FilterKind::Tent => 1.0 - x / self.radius,
+            FilterKind::Gaussian => {
+                let sigma: f64 = 0.5;
+                let g = |x: f64| (-x * x / (2.0 * sigma * sigma)).exp();
+                (g(x) - g(self.radius)).max(0.0)
+            }
+            FilterKind::Mitchell => {
+                // Mitchell–Netravali with B = C = 1/3 over [-2, 2].
+                let (b, c) = (1.0 / 3.0, 1.0 / 3.0);
+                if x < 1.0 {
+                    ((12.0 - 9.0 * b - 6.0 * c) * x.powi(3)
+                        + (-18.0 + 12.0 * b + 6.0 * c) * x * x
+                        + (6.0 - 2.0 * b))
+                        / 6.0
+                } else {
+                    ((-b - 6.0 * c) * x.powi(3)
+                        + (6.0 * b + 30.0 * c) * x * x
+                        + (-12.0 * b - 48.0 * c) * x
+                        + (8.0 * b + 24.0 * c))
+                        / 6.0
+                }
+            }
+        }
+    }
+    // ANCHOR_END: filter
+
+    /// How many pixels around a pixel can hold samples that reach it.
+    pub fn reach(&self) -> i64 {
+        (self.radius + 0.5).ceil() as i64 - 1
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    #[test]
+    fn weights() {
+        let b = Filter::new(FilterKind::Box);
+        assert_eq!(b.weight(0.5, 0.0), 1.0);
+        assert_eq!(b.weight(0.51, 0.0), 0.0);
+        let t = Filter::new(FilterKind::Tent);
+        assert_eq!(t.weight(0.5, 0.0), 0.5);
+        let m = Filter::new(FilterKind::Mitchell);
+        assert!((m.weight(0.0, 0.0) - (8.0 / 9.0f64).powi(2)).abs() < 1e-12);
+        assert!(m.weight(1.5, 0.0) < 0.0); // negative lobe sharpens
+        let g = Filter::new(FilterKind::Gaussian);
+        assert!(g.weight(0.0, 0.0) > g.weight(1.0, 0.0) && g.weight(1.6, 0.0) == 0.0);
+        assert_eq!(b.reach(), 0);
+        assert_eq!(t.reach(), 1);
+        assert_eq!(m.reach(), 2);
+    }
+}

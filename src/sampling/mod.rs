@@ -1,0 +1,11 @@
+//! Where samples go in a pixel, how they are weighted back into pixels, and the film.
+
+mod film;
+mod filter;
+mod sampler;
+
+pub use film::{
+    encode, reconstruct as render_reconstruct, render, Image, RenderOutput, RenderStats,
+};
+pub use filter::Filter;
+pub use sampler::{pixel_samples, validate_spp};

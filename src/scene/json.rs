@@ -1,0 +1,271 @@
+//! Walking a parsed JSON document with a path, so that every error can say where it is
+//! (`objects[2].radius`) and unknown keys can be caught with a "did you mean" hint.
+//! Both scene formats (native and CS1230) read through this.
+
+use crate::error::{suggest, Error, Result};
+use glam::{DVec2, DVec3};
+use serde_json::{Map, Value};
+use std::path::Path;
+
+/// A value in the document and where it sits.
+#[derive(Clone, Copy)]
+pub struct Node<'a> {
+    pub v: &'a Value,
+    pub path: &'a str,
+    pub file: &'a Path,
+}
+
+/// Parses JSON text, turning a syntax error into `file: line L, column C: ...`.
+pub fn parse(file: &Path, text: &str) -> Result<Value> {
+    serde_json::from_str(text).map_err(|e| {
+        let what = e.to_string();
+        let what = what.split(" at line").next().unwrap_or(&what).to_string();
+        Error::input(
+            file,
+            format!("line {}, column {}", e.line(), e.column()),
+            format!("invalid JSON: {what}"),
+        )
+    })
+}
+
+fn type_name(v: &Value) -> &'static str {
+    match v {
+        Value::Null => "null",
+        Value::Bool(_) => "a boolean",
+        Value::Number(_) => "a number",
+        Value::String(_) => "a string",
+        Value::Array(_) => "an array",
+        Value::Object(_) => "an object",
+    }
+}
+
+impl<'a> Node<'a> {
+    pub fn err(&self, msg: impl Into<String>) -> Error {
+        Error::input(
+            self.file,
+            if self.path.is_empty() {
+                "(top level)".to_string()
+            } else {
+                self.path.to_string()
+            },
+            msg,
+        )
+    }
+
+    fn expected(&self, what: &str) -> Error {
+        self.err(format!("expected {what}, found {}", describe(self.v)))
+    }
+
+    pub fn f64(&self) -> Result<f64> {
+        let x = self.v.as_f64().ok_or_else(|| self.expected("a number"))?;
+        if !x.is_finite() {
+            return Err(self.err("expected a finite number"));
+        }
+        Ok(x)
+    }
+    pub fn positive(&self) -> Result<f64> {
+        let x = self.f64()?;
+        if x <= 0.0 {
+            return Err(self.err(format!("must be greater than 0, found {x}")));
+        }
+        Ok(x)
+    }
+    pub fn non_negative(&self) -> Result<f64> {
+        let x = self.f64()?;
+        if x < 0.0 {
+            return Err(self.err(format!("must not be negative, found {x}")));
+        }
+        Ok(x)
+    }
+    pub fn u32(&self) -> Result<u32> {
+        let x = self.f64()?;
+        if x < 0.0 || x.fract() != 0.0 || x > u32::MAX as f64 {
+            return Err(self.err(format!("expected a whole number ≥ 0, found {x}")));
+        }
+        Ok(x as u32)
+    }
+    pub fn bool(&self) -> Result<bool> {
+        self.v
+            .as_bool()
+            .ok_or_else(|| self.expected("true or false"))
+    }
+    pub fn str(&self) -> Result<&'a str> {
+        self.v.as_str().ok_or_else(|| self.expected("a string"))
+    }
+    pub fn array(&self) -> Result<&'a Vec<Value>> {
+        self.v.as_array().ok_or_else(|| self.expected("an array"))
+    }
+    /// Numbers of an array of exactly `n` numbers.
+    pub fn numbers(&self, n: usize) -> Result<Vec<f64>> {
+        let a = self
+            .array()
+            .map_err(|_| self.expected(&format!("an array of {n} numbers")))?;
+        if a.len() != n {
+            return Err(self.err(format!(
+                "expected an array of {n} numbers, found {} element(s)",
+                a.len()
+            )));
+        }
+        a.iter()
+            .enumerate()
+            .map(|(i, v)| {
+                let p = format!("{}[{i}]", self.path);
+                Node {
+                    v,
+                    path: &p,
+                    file: self.file,
+                }
+                .f64()
+            })
+            .collect()
+    }
+    pub fn vec3(&self) -> Result<DVec3> {
+        let v = self.numbers(3)?;
+        Ok(DVec3::new(v[0], v[1], v[2]))
+    }
+    pub fn vec2(&self) -> Result<DVec2> {
+        let v = self.numbers(2)?;
+        Ok(DVec2::new(v[0], v[1]))
+    }
+    /// A colour: three numbers, or one number meaning grey. Negative values are refused.
+    pub fn color(&self) -> Result<DVec3> {
+        let c = if self.v.is_number() {
+            DVec3::splat(self.f64()?)
+        } else {
+            self.vec3()?
+        };
+        if c.min_element() < 0.0 {
+            return Err(self.err("colour components must not be negative"));
+        }
+        Ok(c)
+    }
+    /// A direction: three numbers, not all zero.
+    pub fn direction(&self) -> Result<DVec3> {
+        let d = self.vec3()?;
+        if d.length_squared() == 0.0 || !d.length_squared().is_finite() {
+            return Err(self.err("a direction must not be the zero vector"));
+        }
+        Ok(d)
+    }
+    pub fn object(&self, allowed: &'static [&'static str]) -> Result<Obj<'a>> {
+        let map = self
+            .v
+            .as_object()
+            .ok_or_else(|| self.expected("an object"))?;
+        Ok(Obj {
+            map,
+            path: self.path.to_string(),
+            file: self.file,
+            allowed,
+        })
+    }
+}
+
+/// Describes a value for "found ..." messages.
+fn describe(v: &Value) -> String {
+    match v {
+        Value::String(s) if s.len() < 40 => format!("the string \"{s}\""),
+        Value::Number(n) => format!("the number {n}"),
+        other => type_name(other).to_string(),
+    }
+}
+
+/// A JSON object being read, with the list of keys it may have.
+pub struct Obj<'a> {
+    pub map: &'a Map<String, Value>,
+    pub path: String,
+    pub file: &'a Path,
+    pub allowed: &'static [&'static str],
+}
+
+impl<'a> Obj<'a> {
+    pub fn child_path(&self, key: &str) -> String {
+        if self.path.is_empty() {
+            key.to_string()
+        } else {
+            format!("{}.{key}", self.path)
+        }
+    }
+
+    /// Fails on the first key that is not allowed, suggesting the closest allowed one.
+    pub fn check_keys(&self) -> Result<()> {
+        for key in self.map.keys() {
+            if !self.allowed.contains(&key.as_str()) {
+                let hint = match suggest(key, self.allowed) {
+                    Some(s) => format!(" (did you mean \"{s}\"?)"),
+                    None => format!(" (expected one of: {})", self.allowed.join(", ")),
+                };
+                return Err(Error::input(
+                    self.file,
+                    self.child_path(key),
+                    format!("unknown key \"{key}\"{hint}"),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    pub fn has(&self, key: &str) -> bool {
+        self.map.contains_key(key)
+    }
+
+    /// Runs `f` on the value at `key` if present.
+    pub fn opt<T>(&self, key: &str, f: impl FnOnce(Node) -> Result<T>) -> Result<Option<T>> {
+        match self.map.get(key) {
+            None => Ok(None),
+            Some(v) => {
+                let p = self.child_path(key);
+                f(Node {
+                    v,
+                    path: &p,
+                    file: self.file,
+                })
+                .map(Some)
+            }
+        }
+    }
+    pub fn or<T>(&self, key: &str, default: T, f: impl FnOnce(Node) -> Result<T>) -> Result<T> {
+        Ok(self.opt(key, f)?.unwrap_or(default))
+    }
+    pub fn req<T>(&self, key: &str, f: impl FnOnce(Node) -> Result<T>) -> Result<T> {
+        self.opt(key, f)?.ok_or_else(|| {
+            let at = if self.path.is_empty() {
+                "(top level)".to_string()
+            } else {
+                self.path.clone()
+            };
+            Error::input(self.file, at, format!("missing required key \"{key}\""))
+        })
+    }
+    /// Each element of the array at `key` with its indexed path.
+    pub fn each<T>(
+        &self,
+        key: &str,
+        mut f: impl FnMut(Node, usize) -> Result<T>,
+    ) -> Result<Vec<T>> {
+        let Some(v) = self.map.get(key) else {
+            return Ok(Vec::new());
+        };
+        let p = self.child_path(key);
+        let arr = Node {
+            v,
+            path: &p,
+            file: self.file,
+        }
+        .array()?;
+        arr.iter()
+            .enumerate()
+            .map(|(i, v)| {
+                let ip = format!("{p}[{i}]");
+                f(
+                    Node {
+                        v,
+                        path: &ip,
+                        file: self.file,
+                    },
+                    i,
+                )
+            })
+            .collect()
+    }
+}

@@ -1,0 +1,308 @@
+//! Scene files → one validated [`Scene`]. Both formats (native rtlab JSON and the CS1230
+//! course scenefile) load into the same types; nothing downstream knows which one it was.
+
+pub mod cs1230;
+pub mod json;
+mod native;
+pub mod obj;
+
+use crate::accel::{Accel, AccelKind};
+use crate::camera::Camera;
+use crate::error::{Error, Result};
+use crate::math::Transform;
+use crate::shading::{Light, Material};
+use crate::shapes::{Aabb, Shape};
+use glam::DVec3;
+use std::path::{Path, PathBuf};
+
+pub use native::NATIVE_KEYS;
+
+/// The deepest recursion accepted from a scene or `--max-depth`.
+pub fn native_max_depth() -> u32 {
+    native::MAX_DEPTH_LIMIT
+}
+
+/// How samples are placed in a pixel (DESIGN §3).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SamplerKind {
+    Center,
+    Grid,
+    Corners,
+    Jittered,
+    Random,
+    Adaptive,
+}
+
+impl SamplerKind {
+    pub const NAMES: [&'static str; 6] = [
+        "center", "grid", "corners", "jittered", "random", "adaptive",
+    ];
+    pub fn parse(s: &str) -> Option<SamplerKind> {
+        Some(match s {
+            "center" => SamplerKind::Center,
+            "grid" => SamplerKind::Grid,
+            "corners" => SamplerKind::Corners,
+            "jittered" => SamplerKind::Jittered,
+            "random" => SamplerKind::Random,
+            "adaptive" => SamplerKind::Adaptive,
+            _ => return None,
+        })
+    }
+    pub fn name(self) -> &'static str {
+        Self::NAMES[self as usize]
+    }
+}
+
+/// Reconstruction filter (DESIGN §3).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FilterKind {
+    Box,
+    Tent,
+    Gaussian,
+    Mitchell,
+}
+
+impl FilterKind {
+    pub const NAMES: [&'static str; 4] = ["box", "tent", "gaussian", "mitchell"];
+    pub fn parse(s: &str) -> Option<FilterKind> {
+        Some(match s {
+            "box" => FilterKind::Box,
+            "tent" => FilterKind::Tent,
+            "gaussian" => FilterKind::Gaussian,
+            "mitchell" => FilterKind::Mitchell,
+            _ => return None,
+        })
+    }
+    pub fn name(self) -> &'static str {
+        Self::NAMES[self as usize]
+    }
+}
+
+/// How linear colour becomes bytes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Encoding {
+    /// byte = floor(255 · clamp(c, 0, 1)): the course's reference images.
+    Clamp,
+    /// The sRGB transfer curve, rounded.
+    Srgb,
+}
+
+/// Everything that decides how the scene is rendered; scene values, overridable from the CLI.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RenderSettings {
+    pub spp: u32,
+    pub sampler: SamplerKind,
+    pub filter: FilterKind,
+    pub max_depth: u32,
+    pub min_contribution: f64,
+    pub background: DVec3,
+    pub seed: u64,
+    pub encoding: Encoding,
+    pub shadows: bool,
+    pub reflections: bool,
+    pub refractions: bool,
+    pub textures: bool,
+    pub depth_of_field: bool,
+    pub accel: AccelKind,
+    /// Clamp every traced colour to [0, 1] before it is used (the course's renderer does).
+    pub clamp_each_ray: bool,
+    /// Offset for spawned rays, along the surface normal (scaled by the scene's size).
+    pub epsilon: f64,
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        RenderSettings {
+            spp: 1,
+            sampler: SamplerKind::Center,
+            filter: FilterKind::Box,
+            max_depth: 5,
+            min_contribution: 0.001,
+            background: DVec3::ZERO,
+            seed: 0,
+            encoding: Encoding::Clamp,
+            shadows: true,
+            reflections: true,
+            refractions: true,
+            textures: true,
+            depth_of_field: true,
+            accel: AccelKind::Bvh,
+            clamp_each_ray: false,
+            epsilon: 1e-7,
+        }
+    }
+}
+
+/// The global weights of the lighting equation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Global {
+    pub ka: f64,
+    pub kd: f64,
+    pub ks: f64,
+    pub kt: f64,
+}
+
+/// An object: a shape in its own space, placed in the world by a transform.
+#[derive(Debug, Clone)]
+pub struct Object {
+    pub name: String,
+    pub shape: Shape,
+    pub transform: Transform,
+    pub material: usize,
+    /// World-space bounds; `None` for unbounded shapes.
+    pub bounds: Option<Aabb>,
+}
+
+/// The source a scene came from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SceneFormat {
+    Native,
+    Cs1230,
+}
+
+/// A validated scene: every value here has been checked; nothing downstream re-validates.
+#[derive(Debug, Clone)]
+pub struct Scene {
+    pub path: PathBuf,
+    pub format: SceneFormat,
+    pub camera: Camera,
+    pub render: RenderSettings,
+    pub global: Global,
+    pub ambient_light: DVec3,
+    pub lights: Vec<Light>,
+    pub materials: Vec<Material>,
+    pub objects: Vec<Object>,
+    pub accel: Accel,
+}
+
+impl Scene {
+    /// Loads a scene file of either format, recognised by its keys.
+    pub fn load(path: &Path) -> Result<Scene> {
+        if path.is_dir() {
+            return Err(Error::io(
+                path,
+                "is a directory, expected a scene file (.json)",
+            ));
+        }
+        let bytes = std::fs::read(path)
+            .map_err(|e| Error::io(path, format!("cannot read scene: {}", io_reason(&e))))?;
+        let text = String::from_utf8(bytes).map_err(|_| {
+            Error::input(
+                path,
+                "",
+                "not a text file (invalid UTF-8): expected a JSON scene",
+            )
+        })?;
+        let value = json::parse(path, &text)?;
+        let mut scene = if crate::scene::is_cs1230(&value) {
+            cs1230::load(path, &value)?
+        } else {
+            native::load(path, &value)?
+        };
+        scene.rebuild_accel();
+        Ok(scene)
+    }
+
+    /// (Re)builds the accelerator after objects or `render.accel` changed.
+    pub fn rebuild_accel(&mut self) {
+        self.accel = Accel::build(self.render.accel, &self.objects);
+        let size = self
+            .objects
+            .iter()
+            .filter_map(|o| o.bounds)
+            .fold(Aabb::EMPTY, |a, b| a.union(b));
+        let extent = if size.is_empty() {
+            1.0
+        } else {
+            (size.max - size.min)
+                .max_element()
+                .max(size.max.abs().max_element())
+        };
+        self.render.epsilon = 1e-7 * extent.clamp(1e-3, 1e9).max(1.0);
+    }
+
+    /// The material of an object.
+    pub fn material_of(&self, object: usize) -> &Material {
+        &self.materials[self.objects[object].material]
+    }
+
+    /// The name an object is shown by: its scene name or `#index`.
+    pub fn object_name(&self, object: usize) -> &str {
+        &self.objects[object].name
+    }
+}
+
+/// A CS1230 scenefile has `globalData` and `cameraData` at the top level.
+pub fn is_cs1230(v: &serde_json::Value) -> bool {
+    v.get("globalData").is_some() || v.get("cameraData").is_some()
+}
+
+pub(crate) fn io_reason(e: &std::io::Error) -> String {
+    match e.kind() {
+        std::io::ErrorKind::NotFound => "no such file".into(),
+        std::io::ErrorKind::PermissionDenied => "permission denied".into(),
+        _ => e.to_string(),
+    }
+}
+
+/// Loads an image texture (PNG, JPEG, GIF) as linear values texel/255.
+pub fn load_texture(path: &Path) -> Result<crate::shading::TextureSource> {
+    if path.is_dir() {
+        return Err(Error::io(path, "is a directory, expected a texture image"));
+    }
+    let img = image::open(path).map_err(|e| match e {
+        image::ImageError::IoError(io) => {
+            Error::io(path, format!("cannot read texture: {}", io_reason(&io)))
+        }
+        other => Error::io(path, format!("cannot decode texture image: {other}")),
+    })?;
+    let rgb = img.to_rgb8();
+    if rgb.width() == 0 || rgb.height() == 0 {
+        return Err(Error::io(path, "the texture image is empty"));
+    }
+    let texels = rgb
+        .pixels()
+        .map(|p| DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64) / 255.0)
+        .collect();
+    Ok(crate::shading::TextureSource::Image {
+        width: rgb.width(),
+        height: rgb.height(),
+        texels: std::sync::Arc::new(texels),
+    })
+}
+
+/// Largest image rtlab will allocate (pixels); larger sizes are refused before any memory
+/// is taken, with the size they would need.
+pub const MAX_PIXELS: u64 = 1 << 27;
+
+/// Checks an image size, naming what it would cost when it is refused.
+pub fn check_size(width: u32, height: u32) -> std::result::Result<(), String> {
+    if width == 0 || height == 0 {
+        return Err(format!(
+            "the image size must be at least 1×1, found {width}×{height}"
+        ));
+    }
+    let n = width as u64 * height as u64;
+    if n > MAX_PIXELS {
+        return Err(format!(
+            "{width}×{height} is {n} pixels, which would need about {:.1} GiB; the limit is {MAX_PIXELS} pixels",
+            n as f64 * 64.0 / (1u64 << 30) as f64
+        ));
+    }
+    Ok(())
+}
+
+/// Resolves a path written in a scene file against a base directory.
+pub fn resolve(base: &Path, file: &str) -> PathBuf {
+    let p = Path::new(file);
+    if p.is_absolute() {
+        p.to_path_buf()
+    } else {
+        base.join(p)
+    }
+}
+
+/// World bounds of a shape under a transform.
+pub fn world_bounds(shape: &Shape, t: &Transform) -> Option<Aabb> {
+    shape.bounds().map(|b| b.transformed(&t.world_from_object))
+}

@@ -1,0 +1,168 @@
+//! Wavefront OBJ meshes: `v`, `vt`, `vn` and polygonal `f` lines (fanned into triangles).
+//! Written here rather than taken from a crate so every error can name its line.
+
+use crate::error::{Error, Result};
+use crate::shapes::Mesh;
+use glam::{DVec2, DVec3};
+use std::collections::HashMap;
+use std::path::Path;
+
+/// Loads an OBJ file into a mesh with one index per corner (positions, normals and texture
+/// coordinates re-indexed together).
+pub fn load(path: &Path) -> Result<Mesh> {
+    if path.is_dir() {
+        return Err(Error::io(path, "is a directory, expected an OBJ mesh file"));
+    }
+    let bytes = std::fs::read(path)
+        .map_err(|e| Error::io(path, format!("cannot read mesh: {}", super::io_reason(&e))))?;
+    let text = String::from_utf8(bytes)
+        .map_err(|_| Error::input(path, "", "not a text OBJ file (binary or invalid UTF-8)"))?;
+    parse(path, &text)
+}
+
+pub fn parse(path: &Path, text: &str) -> Result<Mesh> {
+    let (mut v, mut vt, mut vn) = (Vec::new(), Vec::new(), Vec::new());
+    let mut corners: HashMap<(u32, u32, u32), u32> = HashMap::new();
+    let (mut positions, mut normals, mut uvs, mut faces) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let mut any_vt = false;
+    let mut any_vn = false;
+    for (ln, line) in text.lines().enumerate() {
+        let at = |col: usize| format!("line {}:{}", ln + 1, col + 1);
+        let line = line.split('#').next().unwrap_or("");
+        let mut words = line.split_whitespace();
+        let Some(tag) = words.next() else { continue };
+        let nums = |n: usize, words: std::str::SplitWhitespace| -> Result<Vec<f64>> {
+            let xs: Vec<&str> = words.collect();
+            if xs.len() < n {
+                return Err(Error::input(
+                    path,
+                    at(0),
+                    format!("'{tag}' needs {n} numbers, found {}", xs.len()),
+                ));
+            }
+            xs[..n]
+                .iter()
+                .map(|w| {
+                    w.parse::<f64>()
+                        .ok()
+                        .filter(|x| x.is_finite())
+                        .ok_or_else(|| {
+                            Error::input(
+                                path,
+                                at(line.find(w).unwrap_or(0)),
+                                format!("expected a finite number, found \"{w}\""),
+                            )
+                        })
+                })
+                .collect()
+        };
+        match tag {
+            "v" => {
+                let p = nums(3, words)?;
+                v.push(DVec3::new(p[0], p[1], p[2]));
+            }
+            "vt" => {
+                let p = nums(2, words)?;
+                vt.push(DVec2::new(p[0], p[1]));
+            }
+            "vn" => {
+                let p = nums(3, words)?;
+                vn.push(DVec3::new(p[0], p[1], p[2]));
+            }
+            "f" => {
+                let mut poly = Vec::new();
+                for w in words {
+                    let col = line.find(w).unwrap_or(0);
+                    let mut parts = w.split('/');
+                    let resolve = |s: Option<&str>,
+                                   len: usize,
+                                   what: &str|
+                     -> Result<Option<u32>> {
+                        match s {
+                            None | Some("") => Ok(None),
+                            Some(s) => {
+                                let i: i64 = s.parse().map_err(|_| {
+                                    Error::input(path, at(col), format!("bad {what} index \"{s}\""))
+                                })?;
+                                let idx = if i < 0 { len as i64 + i } else { i - 1 };
+                                if i == 0 || idx < 0 || idx >= len as i64 {
+                                    return Err(Error::input(
+                                        path,
+                                        at(col),
+                                        format!("{what} index {i} is out of range (the file has {len} so far)"),
+                                    ));
+                                }
+                                Ok(Some(idx as u32))
+                            }
+                        }
+                    };
+                    let pi = resolve(parts.next(), v.len(), "vertex")?.ok_or_else(|| {
+                        Error::input(path, at(col), "a face corner needs a vertex index")
+                    })?;
+                    let ti = resolve(parts.next(), vt.len(), "texture coordinate")?;
+                    let ni = resolve(parts.next(), vn.len(), "normal")?;
+                    any_vt |= ti.is_some();
+                    any_vn |= ni.is_some();
+                    let key = (pi, ti.map_or(u32::MAX, |x| x), ni.map_or(u32::MAX, |x| x));
+                    let id = *corners.entry(key).or_insert_with(|| {
+                        positions.push(v[pi as usize]);
+                        uvs.push(ti.map_or(DVec2::ZERO, |i| vt[i as usize]));
+                        normals.push(ni.map_or(DVec3::ZERO, |i| vn[i as usize]));
+                        positions.len() as u32 - 1
+                    });
+                    poly.push(id);
+                }
+                if poly.len() < 3 {
+                    return Err(Error::input(
+                        path,
+                        at(0),
+                        format!("a face needs at least 3 corners, found {}", poly.len()),
+                    ));
+                }
+                for k in 1..poly.len() - 1 {
+                    faces.push([poly[0], poly[k], poly[k + 1]]);
+                }
+            }
+            _ => {} // groups, materials, smoothing: not needed for geometry
+        }
+    }
+    // Drop degenerate faces (zero area): they can never be hit and only cost time.
+    faces.retain(|f: &[u32; 3]| {
+        let [a, b, c] = f.map(|i| positions[i as usize]);
+        (b - a).cross(c - a).length_squared() > 0.0
+    });
+    if faces.is_empty() {
+        return Err(Error::input(
+            path,
+            "",
+            "the mesh has no triangles (no usable 'f' lines)",
+        ));
+    }
+    if !any_vn || normals.iter().any(|n| n.length_squared() == 0.0) {
+        normals.clear();
+    }
+    if !any_vt {
+        uvs.clear();
+    }
+    Ok(Mesh::new(positions, normals, uvs, faces))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    #[test]
+    fn quads_fan_and_errors_name_lines() {
+        let m = parse(
+            Path::new("q.obj"),
+            "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n",
+        )
+        .unwrap();
+        assert_eq!(m.faces.len(), 2);
+        let e = parse(Path::new("q.obj"), "v 0 0 0\nf 1 2 3\n").unwrap_err();
+        assert!(e.to_string().contains("line 2"), "{e}");
+        let e = parse(Path::new("q.obj"), "v 0 0 zero\n").unwrap_err();
+        assert!(e.to_string().contains("line 1:7"), "{e}");
+        assert!(parse(Path::new("q.obj"), "").is_err());
+    }
+}

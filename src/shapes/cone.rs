@@ -1,0 +1,137 @@
+use super::working::short;
+use super::{u_around_y, Candidate, LocalHit, Observer, Quadratic, ON_SHAPE_EPS};
+use crate::math::Ray;
+use glam::{DVec2, DVec3};
+
+/// The double cone x² + z² = (k·y)² with apex at the origin, cut to y_min ≤ y ≤ y_max, with
+/// flat caps (discs of radius k·|y|) at the ends unless `capped` is false. A cap of radius 0
+/// (an end at the apex) is not a surface.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Cone {
+    pub slope: f64,
+    pub y_min: f64,
+    pub y_max: f64,
+    pub capped: bool,
+}
+
+impl Cone {
+    /// Case by case, as for the cylinder: body roots tossed outside the y range, cap roots
+    /// tossed outside their disc.
+    pub fn intersect<O: Observer>(
+        &self,
+        ray: &Ray,
+        t_min: f64,
+        t_max: f64,
+        obs: &mut O,
+    ) -> Option<LocalHit> {
+        let (p, d) = (ray.origin, ray.dir);
+        let k2 = self.slope * self.slope;
+        let mut best: Option<(f64, &'static str)> = None;
+        let mut consider = |t: f64,
+                            surface: &'static str,
+                            on_shape: bool,
+                            why: &dyn Fn() -> String,
+                            obs: &mut O| {
+            let in_front = t >= t_min;
+            obs.candidate(
+                Candidate {
+                    t,
+                    point: ray.at(t),
+                    surface,
+                    on_shape,
+                    in_front,
+                },
+                why,
+            );
+            if on_shape && in_front && t <= t_max && best.is_none_or(|b| t < b.0) {
+                best = Some((t, surface));
+            }
+        };
+
+        // Body: substitute into x² + z² − k²y² = 0.
+        let q = Quadratic::new(
+            d.x * d.x + d.z * d.z - k2 * d.y * d.y,
+            2.0 * (p.x * d.x + p.z * d.z - k2 * p.y * d.y),
+            p.x * p.x + p.z * p.z - k2 * p.y * p.y,
+        );
+        obs.quadratic("body", &q);
+        let (roots, n) = q.solve();
+        let tol = ON_SHAPE_EPS * (self.y_max - self.y_min).abs().max(1.0);
+        for &t in &roots[..n] {
+            let y = p.y + t * d.y;
+            let on_shape = y >= self.y_min - tol && y <= self.y_max + tol;
+            let why = || {
+                format!(
+                    "y = {} is outside [{}, {}]",
+                    short(y),
+                    short(self.y_min),
+                    short(self.y_max)
+                )
+            };
+            consider(t, "body", on_shape, &why, obs);
+        }
+        if self.capped && d.y != 0.0 {
+            for (plane, surface) in [(self.y_max, "top-cap"), (self.y_min, "bottom-cap")] {
+                let cap_r = self.slope * plane.abs();
+                if cap_r <= 0.0 {
+                    continue;
+                }
+                let t = (plane - p.y) / d.y;
+                let (x, z) = (p.x + t * d.x, p.z + t * d.z);
+                let rr = x * x + z * z;
+                let on_shape = rr <= cap_r * cap_r * (1.0 + ON_SHAPE_EPS);
+                let why = || {
+                    format!(
+                        "x² + z² = {} > r² = {}: outside the cap's disc",
+                        short(rr),
+                        short(cap_r * cap_r)
+                    )
+                };
+                consider(t, surface, on_shape, &why, obs);
+            }
+        }
+        let (t, surface) = best?;
+        let mut point = ray.at(t);
+        let (normal, uv) = match surface {
+            "top-cap" | "bottom-cap" => {
+                let top = surface == "top-cap";
+                point.y = if top { self.y_max } else { self.y_min };
+                let r = self.slope * point.y.abs();
+                let (u, v) = (
+                    point.x / (2.0 * r) + 0.5,
+                    if top {
+                        0.5 - point.z / (2.0 * r)
+                    } else {
+                        point.z / (2.0 * r) + 0.5
+                    },
+                );
+                (if top { DVec3::Y } else { DVec3::NEG_Y }, DVec2::new(u, v))
+            }
+            _ => {
+                // Gradient of x² + z² − k²y², pointing away from the axis.
+                let g = DVec3::new(point.x, -k2 * point.y, point.z);
+                let n = g.try_normalize().unwrap_or(if point.y >= 0.0 {
+                    DVec3::Y
+                } else {
+                    DVec3::NEG_Y
+                });
+                let v = (point.y - self.y_min) / (self.y_max - self.y_min);
+                let u = if point.x.hypot(point.z) < 1e-12 {
+                    0.5
+                } else {
+                    u_around_y(point.x, point.z)
+                };
+                (n, DVec2::new(u, v))
+            }
+        };
+        Some(LocalHit {
+            t,
+            point,
+            normal,
+            uv,
+            surface,
+            barycentric: None,
+            index: 0,
+        })
+    }
+}

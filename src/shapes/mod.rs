@@ -1,0 +1,157 @@
+//! The shapes, each in its own canonical object space.
+//!
+//! Every shape has exactly one intersection routine, generic over an [`Observer`] that can
+//! watch its working (the quadratic and its discriminant, every candidate root and why it was
+//! kept or tossed, Cramer's determinants). The renderer passes [`NoObserver`], a zero-sized
+//! type whose empty methods compile away; `explain` and `intersect` pass [`Working`].
+
+mod aabb;
+mod cone;
+mod cuboid;
+mod cylinder;
+mod mesh;
+mod plane;
+mod quadratic;
+mod sphere;
+mod triangle;
+pub mod working;
+
+pub use aabb::Aabb;
+pub use cone::Cone;
+pub use cuboid::Cuboid;
+pub use cylinder::Cylinder;
+pub use mesh::Mesh;
+pub use plane::Plane;
+pub use quadratic::{Quadratic, Roots};
+pub use sphere::Sphere;
+pub use triangle::{cramer, cramer_hit, Barycentric, Triangle};
+pub use working::{Candidate, Working};
+
+use crate::math::Ray;
+use glam::{DVec2, DVec3};
+use std::f64::consts::PI;
+use std::sync::Arc;
+
+/// Watches one shape's intersection working. Every method defaults to doing nothing.
+pub trait Observer {
+    /// True for observers that keep what they see; shapes use it to skip work done only for
+    /// the observer (formatting a reason, re-running the winning mesh triangle).
+    const ACTIVE: bool = false;
+    /// The quadratic a·t² + b·t + c = 0 that a surface's equation became.
+    fn quadratic(&mut self, _label: &'static str, _q: &Quadratic) {}
+    /// A root of some equation: `why` is asked only by active observers, and says why a
+    /// candidate that is not on the finite shape was tossed.
+    fn candidate(&mut self, _c: Candidate, _why: impl FnOnce() -> String) {}
+    /// Cramer's rule for a triangle (also when the point lies outside).
+    fn barycentric(&mut self, _b: &Barycentric) {}
+    /// A mesh tested `n` triangles; the winning one was `index`.
+    fn mesh(&mut self, _tested: usize, _index: Option<usize>) {}
+}
+
+/// The observer of `render`: sees nothing, costs nothing.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct NoObserver;
+impl Observer for NoObserver {}
+
+/// Where on an object a ray landed, in the object's own space.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LocalHit {
+    pub t: f64,
+    pub point: DVec3,
+    /// Outward normal in object space, unit length.
+    pub normal: DVec3,
+    pub uv: DVec2,
+    pub surface: &'static str,
+    /// Barycentric weights (alpha, beta, gamma) for triangles and meshes.
+    pub barycentric: Option<[f64; 3]>,
+    /// The triangle of a mesh.
+    pub index: u32,
+}
+
+/// Everything that can be intersected. A closed set, so an enum: one `match` per query.
+#[derive(Debug, Clone)]
+pub enum Shape {
+    Sphere(Sphere),
+    Plane(Plane),
+    Box(Cuboid),
+    Cylinder(Cylinder),
+    Cone(Cone),
+    Triangle(Triangle),
+    Mesh(Arc<Mesh>),
+}
+
+impl Shape {
+    /// The closest intersection with `t_min <= t <= t_max` of an object-space ray.
+    #[inline]
+    pub fn intersect<O: Observer>(
+        &self,
+        ray: &Ray,
+        t_min: f64,
+        t_max: f64,
+        obs: &mut O,
+    ) -> Option<LocalHit> {
+        match self {
+            Shape::Sphere(s) => s.intersect(ray, t_min, t_max, obs),
+            Shape::Plane(s) => s.intersect(ray, t_min, t_max, obs),
+            Shape::Box(s) => s.intersect(ray, t_min, t_max, obs),
+            Shape::Cylinder(s) => s.intersect(ray, t_min, t_max, obs),
+            Shape::Cone(s) => s.intersect(ray, t_min, t_max, obs),
+            Shape::Triangle(s) => s.intersect(ray, t_min, t_max, obs),
+            Shape::Mesh(s) => s.intersect(ray, t_min, t_max, obs),
+        }
+    }
+
+    /// Object-space bounds; `None` for unbounded shapes (the plane).
+    pub fn bounds(&self) -> Option<Aabb> {
+        match self {
+            Shape::Sphere(s) => Some(Aabb::new(
+                s.center - DVec3::splat(s.radius),
+                s.center + DVec3::splat(s.radius),
+            )),
+            Shape::Plane(_) => None,
+            Shape::Box(s) => Some(Aabb::new(s.min, s.max)),
+            Shape::Cylinder(s) => Some(Aabb::new(
+                DVec3::new(-s.radius, s.y_min, -s.radius),
+                DVec3::new(s.radius, s.y_max, s.radius),
+            )),
+            Shape::Cone(s) => {
+                let r = s.slope * s.y_min.abs().max(s.y_max.abs());
+                Some(Aabb::new(
+                    DVec3::new(-r, s.y_min, -r),
+                    DVec3::new(r, s.y_max, r),
+                ))
+            }
+            Shape::Triangle(s) => Some(Aabb::around(&s.v)),
+            Shape::Mesh(m) => Some(m.bounds),
+        }
+    }
+
+    /// The shape's name as the scene format spells it.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Shape::Sphere(_) => "sphere",
+            Shape::Plane(_) => "plane",
+            Shape::Box(_) => "box",
+            Shape::Cylinder(_) => "cylinder",
+            Shape::Cone(_) => "cone",
+            Shape::Triangle(_) => "triangle",
+            Shape::Mesh(_) => "mesh",
+        }
+    }
+}
+
+/// The longitude texture coordinate of the lecture: u runs once around the y axis,
+/// increasing counter-clockwise seen from above... matching the course's convention
+/// (u = -θ/2π for θ < 0, else 1 - θ/2π, with θ = atan2(z, x)).
+pub fn u_around_y(x: f64, z: f64) -> f64 {
+    let theta = z.atan2(x);
+    if theta < 0.0 {
+        -theta / (2.0 * PI)
+    } else {
+        1.0 - theta / (2.0 * PI)
+    }
+}
+
+/// Relative tolerance used by the "is this point on the finite shape" tests, so that a root
+/// computed a few ulps outside a cap rim or a face edge still counts.
+pub(crate) const ON_SHAPE_EPS: f64 = 1e-9;

@@ -1,0 +1,138 @@
+use super::{Candidate, LocalHit, Observer};
+use crate::math::Ray;
+use glam::{DMat3, DVec2, DVec3};
+use serde::Serialize;
+
+/// A triangle with corners a, b, c, optionally with a normal and texture coordinates per
+/// corner (interpolated with the barycentric weights).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Triangle {
+    pub v: [DVec3; 3],
+    pub normals: Option<[DVec3; 3]>,
+    pub uvs: Option<[DVec2; 3]>,
+}
+
+/// Cramer's rule written out: the system's determinant and the solution.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Barycentric {
+    pub alpha: f64,
+    pub beta: f64,
+    pub gamma: f64,
+    pub determinant: f64,
+    pub t: f64,
+}
+
+// ANCHOR: cramer
+/// Solves P + t·d = a + β(b − a) + γ(c − a) for (β, γ, t) by Cramer's rule:
+/// the columns are e1 = b − a, e2 = c − a, −d, the right-hand side s = P − a.
+/// Returns `None` when the determinant is zero (ray parallel to the plane, or a degenerate
+/// triangle).
+#[inline]
+pub fn cramer(v: &[DVec3; 3], ray: &Ray) -> Option<Barycentric> {
+    let (e1, e2, s) = (v[1] - v[0], v[2] - v[0], ray.origin - v[0]);
+    let m = -ray.dir;
+    let determinant = DMat3::from_cols(e1, e2, m).determinant();
+    if determinant == 0.0 || !determinant.is_finite() {
+        return None;
+    }
+    let beta = DMat3::from_cols(s, e2, m).determinant() / determinant;
+    let gamma = DMat3::from_cols(e1, s, m).determinant() / determinant;
+    let t = DMat3::from_cols(e1, e2, s).determinant() / determinant;
+    Some(Barycentric {
+        alpha: 1.0 - beta - gamma,
+        beta,
+        gamma,
+        determinant,
+        t,
+    })
+}
+// ANCHOR_END: cramer
+
+impl Triangle {
+    pub fn new(v: [DVec3; 3]) -> Self {
+        Triangle {
+            v,
+            normals: None,
+            uvs: None,
+        }
+    }
+
+    /// The triangle's plane normal (b − a) × (c − a), unit length (counter-clockwise front).
+    pub fn geometric_normal(&self) -> DVec3 {
+        (self.v[1] - self.v[0])
+            .cross(self.v[2] - self.v[0])
+            .normalize_or_zero()
+    }
+
+    pub fn intersect<O: Observer>(
+        &self,
+        ray: &Ray,
+        t_min: f64,
+        t_max: f64,
+        obs: &mut O,
+    ) -> Option<LocalHit> {
+        let b = cramer(&self.v, ray)?;
+        obs.barycentric(&b);
+        let inside = b.beta >= 0.0 && b.gamma >= 0.0 && b.beta + b.gamma <= 1.0;
+        let in_front = b.t >= t_min;
+        obs.candidate(Candidate { t: b.t, point: ray.at(b.t), surface: "triangle", on_shape: inside, in_front }, || {
+            format!(
+                "outside the triangle: needs beta ≥ 0, gamma ≥ 0, beta + gamma ≤ 1 (beta = {}, gamma = {})",
+                super::working::short(b.beta),
+                super::working::short(b.gamma)
+            )
+        });
+        if !(inside && in_front && b.t <= t_max) {
+            return None;
+        }
+        Some(self.local_hit(ray, &b, 0))
+    }
+
+    pub(crate) fn local_hit(&self, ray: &Ray, b: &Barycentric, index: u32) -> LocalHit {
+        let w = [b.alpha, b.beta, b.gamma];
+        let geometric = self.geometric_normal();
+        let normal = match self.normals {
+            Some(n) => (n[0] * w[0] + n[1] * w[1] + n[2] * w[2])
+                .try_normalize()
+                .unwrap_or(geometric),
+            None => geometric,
+        };
+        let uv = match self.uvs {
+            Some(t) => t[0] * w[0] + t[1] * w[1] + t[2] * w[2],
+            None => DVec2::new(b.beta, b.gamma),
+        };
+        LocalHit {
+            t: b.t,
+            point: ray.at(b.t),
+            normal,
+            uv,
+            surface: "triangle",
+            barycentric: Some(w),
+            index,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    #[test]
+    fn cramer_matches_hand_solution() {
+        // Triangle in z = 0 with corners (0,0), (1,0), (0,1); ray straight down at (0.25, 0.5).
+        let v = [DVec3::ZERO, DVec3::X, DVec3::Y];
+        let ray = Ray::new(DVec3::new(0.25, 0.5, 2.0), DVec3::new(0.0, 0.0, -1.0));
+        let b = cramer(&v, &ray).unwrap();
+        assert!((b.beta - 0.25).abs() < 1e-15 && (b.gamma - 0.5).abs() < 1e-15);
+        assert!((b.alpha - 0.25).abs() < 1e-15 && (b.t - 2.0).abs() < 1e-15);
+        // The determinant is det[e1, e2, -d] = det[[1,0,0],[0,1,0],[0,0,1]] = 1.
+        assert!((b.determinant - 1.0).abs() < 1e-15);
+    }
+}
+
+/// Cramer's rule plus the inside and range tests, for meshes (no observer, no surface record).
+#[inline]
+pub fn cramer_hit(v: &[DVec3; 3], ray: &Ray, t_min: f64, t_max: f64) -> Option<Barycentric> {
+    let b = cramer(v, ray)?;
+    (b.beta >= 0.0 && b.gamma >= 0.0 && b.beta + b.gamma <= 1.0 && b.t >= t_min && b.t <= t_max)
+        .then_some(b)
+}

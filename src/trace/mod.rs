@@ -1,0 +1,15 @@
+//! The Whitted recursion, generic over a [`Recorder`]: one tracer, observed.
+//!
+//! `render` runs it with [`NoRecorder`] (zero-sized, every call compiles away); `explain`
+//! with [`TreeRecorder`] (keeps the whole ray tree), `--stats` and the `cost` map with
+//! [`Counter`]. There is no second copy of the maths anywhere.
+
+mod counter;
+mod recorder;
+mod tree;
+mod whitted;
+
+pub use counter::{Counter, RayCounts};
+pub use recorder::{End, HitInfo, NoRecorder, RayKind, Recorder};
+pub use tree::{HitNode, LightNode, RayNode, ShadingNode, TestNode, TreeRecorder};
+pub use whitted::{trace_sample, SampleResult, Tracer};

@@ -1,0 +1,317 @@
+use super::{End, HitInfo, RayKind, Recorder};
+use crate::camera::RayGeneration;
+use crate::math::{Ray, Rng};
+use crate::scene::{RenderSettings, Scene};
+use crate::shading::optics::{reflect, refract};
+use crate::shading::{LightTerm, Shading};
+use glam::{DVec2, DVec3};
+
+/// The recursive ray tracer over one scene with one set of render settings.
+pub struct Tracer<'a> {
+    pub scene: &'a Scene,
+    pub settings: &'a RenderSettings,
+}
+
+/// One traced sample: where it was on the film and what colour it brought back.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SampleResult {
+    pub film: DVec2,
+    pub color: DVec3,
+    pub generation: RayGeneration,
+}
+
+/// Traces sample `index` at film position `film` of pixel (`px`, `py`). The sample's random
+/// numbers (lens, area lights) come from (seed, pixel, sample index) alone.
+pub fn trace_sample<R: Recorder>(
+    scene: &Scene,
+    settings: &RenderSettings,
+    px: u32,
+    py: u32,
+    index: u32,
+    film: DVec2,
+    rec: &mut R,
+) -> SampleResult {
+    let mut rng = Rng::new(&[settings.seed, px as u64, py as u64, index as u64]);
+    let lens = scene.camera.lens_sample(settings.depth_of_field, &mut rng);
+    let (ray, generation) = scene.camera.generate(film, lens);
+    let tracer = Tracer { scene, settings };
+    let color = tracer.trace(&ray, RayKind::Camera, 0, DVec3::ONE, &mut rng, rec);
+    SampleResult {
+        film,
+        color,
+        generation,
+    }
+}
+
+impl<'a> Tracer<'a> {
+    // ANCHOR: trace
+    /// Traces one ray and returns its colour. `weight` is the product of the weights on the
+    /// path from the camera (for the `min_contribution` cutoff).
+    pub fn trace<R: Recorder>(
+        &self,
+        ray: &Ray,
+        kind: RayKind,
+        depth: u32,
+        weight: DVec3,
+        rng: &mut Rng,
+        rec: &mut R,
+    ) -> DVec3 {
+        rec.begin_ray(kind, depth, ray);
+        let scene = self.scene;
+        let Some((object, local)) =
+            scene
+                .accel
+                .closest(&scene.objects, ray, 0.0, f64::INFINITY, rec)
+        else {
+            let color = self.settings.background;
+            rec.end_ray(color, End::Miss, false);
+            return color;
+        };
+        let hit = self.hit_info(ray, object, local);
+        rec.hit(&hit);
+        let (color, end) = self.shade(ray, &hit, depth, weight, rng, rec);
+        let (color, clamped) = if self.settings.clamp_each_ray {
+            let c = color.clamp(DVec3::ZERO, DVec3::ONE);
+            (c, c != color)
+        } else {
+            (color, false)
+        };
+        rec.end_ray(color, end, clamped);
+        color
+    }
+    // ANCHOR_END: trace
+
+    fn hit_info(&self, ray: &Ray, object: usize, local: crate::shapes::LocalHit) -> HitInfo {
+        let o = &self.scene.objects[object];
+        HitInfo {
+            object,
+            t: local.t,
+            point: ray.at(local.t),
+            normal: o.transform.normal_to_world(local.normal),
+            local_ray: o.transform.ray_to_object(ray),
+            local,
+        }
+    }
+
+    /// The material colours at a hit, textures applied, global weights folded in.
+    fn surface(&self, hit: &HitInfo) -> (Shading, DVec3) {
+        let g = self.scene.global;
+        let m = self.scene.material_of(hit.object);
+        let mut diffuse = g.kd * m.diffuse;
+        if let (Some(tex), true) = (&m.texture, self.settings.textures) {
+            diffuse = (1.0 - tex.blend) * diffuse + tex.blend * tex.texel(hit.local.uv);
+        }
+        let transmit = if self.settings.refractions {
+            g.kt * m.transparent
+        } else {
+            DVec3::ZERO
+        };
+        // Non-refractive transparency: I = (1 − kt·Ot)·I_here + kt·Ot·I_behind.
+        let local_weight = if m.refract {
+            DVec3::ONE
+        } else {
+            DVec3::ONE - transmit
+        };
+        let shading = Shading {
+            ambient: g.ka * m.ambient * local_weight,
+            diffuse,
+            specular: g.ks * m.specular,
+            shininess: m.shininess,
+            local_weight,
+        };
+        (shading, transmit)
+    }
+
+    // ANCHOR: shade
+    /// The lighting equation at a hit:
+    /// I = ka·La·Oa + Σ f_att·L·[kd·Od·(n·l) + ks·Os·(r·v)^n] + ks·Or·I_r + kt·Ot·I_t.
+    fn shade<R: Recorder>(
+        &self,
+        ray: &Ray,
+        hit: &HitInfo,
+        depth: u32,
+        weight: DVec3,
+        rng: &mut Rng,
+        rec: &mut R,
+    ) -> (DVec3, End) {
+        let scene = self.scene;
+        let m = scene.material_of(hit.object);
+        let d = ray.dir.normalize();
+        let entering = hit.normal.dot(d) < 0.0;
+        let n = if entering { hit.normal } else { -hit.normal }; // faces the incoming ray
+        let v = -d;
+        let (s, transmit) = self.surface(hit);
+        let eps = self.settings.epsilon * (1.0 + hit.point.abs().max_element());
+        let above = hit.point + n * eps; // spawn point on the incoming side
+        let below = hit.point - n * eps; // spawn point on the far side
+
+        let ambient = scene.ambient_light * s.ambient;
+        rec.ambient(ambient);
+        let mut color = ambient;
+
+        for (li, light) in scene.lights.iter().enumerate() {
+            let count = light.sample_count();
+            let mut term = LightTerm {
+                light: li,
+                visible: false,
+                visibility: 0.0,
+                distance: 0.0,
+                attenuation: 0.0,
+                spot: 0.0,
+                n_dot_l: 0.0,
+                diffuse: DVec3::ZERO,
+                r_dot_v: 0.0,
+                r_dot_v_pow: 0.0,
+                specular: DVec3::ZERO,
+            };
+            for k in 0..count {
+                let ls = light.sample(hit.point, k, rng);
+                let share = ls.share;
+                term.distance += ls.distance * share;
+                term.attenuation += ls.f_att * share;
+                term.spot += ls.spot * share;
+                let faces_light = n.dot(ls.l) > 0.0 && ls.spot > 0.0;
+                let visible = faces_light
+                    && (!self.settings.shadows
+                        || self.shadow_ray(above, ls.l, ls.distance, depth, rec));
+                let (diffuse, specular, n_dot_l, r_dot_v, pow) =
+                    s.light(light.color * ls.spot * share, ls.l, n, v, ls.f_att);
+                term.n_dot_l += n_dot_l * share;
+                term.r_dot_v += r_dot_v * share;
+                term.r_dot_v_pow += pow * share;
+                if visible {
+                    term.visible = true;
+                    term.visibility += share;
+                    term.diffuse += diffuse;
+                    term.specular += specular;
+                }
+            }
+            rec.light(&term);
+            color += term.diffuse + term.specular;
+        }
+
+        let mut end = End::Shaded;
+        let can_recurse = depth < self.settings.max_depth;
+        let spawn = |w: DVec3, end: &mut End| -> bool {
+            if w.max_element() <= 0.0 {
+                return false;
+            }
+            if !can_recurse {
+                *end = End::MaxDepth;
+                return false;
+            }
+            if (weight * w).max_element() < self.settings.min_contribution {
+                if *end == End::Shaded {
+                    *end = End::Cutoff;
+                }
+                return false;
+            }
+            true
+        };
+
+        // Reflection: ks·Or·I_r, the mirror ray from the incoming side.
+        let w_reflect = if self.settings.reflections {
+            scene.global.ks * m.reflective * s.local_weight
+        } else {
+            DVec3::ZERO
+        };
+        if spawn(w_reflect, &mut end) {
+            let r = Ray::new(above, reflect(d, n));
+            let i_r = self.trace(
+                &r,
+                RayKind::Reflection,
+                depth + 1,
+                weight * w_reflect,
+                rng,
+                rec,
+            );
+            let c = w_reflect * i_r;
+            rec.reflected(c);
+            color += c;
+        }
+
+        // Transmission: kt·Ot·I_t, straight through or bent by Snell's law.
+        if spawn(transmit, &mut end) {
+            let mut c = DVec3::ZERO;
+            if !m.refract {
+                let t = Ray::new(below, d);
+                c = transmit
+                    * self.trace(
+                        &t,
+                        RayKind::Transmission,
+                        depth + 1,
+                        weight * transmit,
+                        rng,
+                        rec,
+                    );
+            } else {
+                // One ray, or one per channel when the index differs per channel (dispersion).
+                let channels: &[Option<usize>] = if m.is_dispersive() {
+                    &[Some(0), Some(1), Some(2)]
+                } else {
+                    &[None]
+                };
+                for &ch in channels {
+                    let ior = m.ior[ch.unwrap_or(0)];
+                    let eta = if entering { 1.0 / ior } else { ior };
+                    let mask = match ch {
+                        Some(k) => DVec3::AXES[k],
+                        None => DVec3::ONE,
+                    };
+                    let w = transmit * mask;
+                    if w.max_element() <= 0.0 {
+                        continue;
+                    }
+                    let t = match refract(d, n, eta) {
+                        Some(dir) => Ray::new(below, dir),
+                        None => {
+                            end = End::TotalInternalReflection;
+                            Ray::new(above, reflect(d, n))
+                        }
+                    };
+                    if let Some(k) = ch {
+                        rec.channel(k);
+                    }
+                    c += w * self.trace(&t, RayKind::Refraction, depth + 1, weight * w, rng, rec);
+                }
+            }
+            rec.transmitted(c);
+            color += c;
+        }
+        (color, end)
+    }
+    // ANCHOR_END: shade
+
+    // ANCHOR: shadow
+    /// Casts a shadow ray from `origin` towards a light `distance` away along `l`: the light
+    /// is visible unless some object is hit first (any hit will do, not the closest).
+    fn shadow_ray<R: Recorder>(
+        &self,
+        origin: glam::DVec3,
+        l: DVec3,
+        distance: f64,
+        depth: u32,
+        rec: &mut R,
+    ) -> bool {
+        let ray = Ray::new(origin, l);
+        rec.begin_ray(RayKind::Shadow, depth + 1, &ray);
+        let scene = self.scene;
+        let blocker = scene
+            .accel
+            .occluded(&scene.objects, &ray, 0.0, distance, rec);
+        match blocker {
+            Some((object, local)) => {
+                if R::ACTIVE {
+                    rec.hit(&self.hit_info(&ray, object, local));
+                }
+                rec.end_ray(DVec3::ZERO, End::Blocked, false);
+                false
+            }
+            None => {
+                rec.end_ray(DVec3::ONE, End::Miss, false);
+                true
+            }
+        }
+    }
+    // ANCHOR_END: shadow
+}

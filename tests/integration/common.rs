@@ -1,0 +1,64 @@
+//! Helpers shared by the integration tests.
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// The repository root.
+pub fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// A path under the repository root.
+pub fn path(rel: &str) -> PathBuf {
+    root().join(rel)
+}
+
+/// Runs the rtlab binary with arguments.
+pub fn rtlab(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_rtlab"))
+        .args(args)
+        .current_dir(root())
+        .output()
+        .expect("rtlab runs")
+}
+
+/// Loads a scene from the repository.
+pub fn scene(rel: &str) -> rtlab::scene::Scene {
+    rtlab::scene::Scene::load(&path(rel)).unwrap_or_else(|e| panic!("{rel}: {e}"))
+}
+
+/// Every scene file in `scenes/`.
+pub fn all_scenes() -> Vec<PathBuf> {
+    let mut v: Vec<PathBuf> = std::fs::read_dir(path("scenes"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "json"))
+        .collect();
+    v.sort();
+    v
+}
+
+pub fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+pub fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("rtlab-test-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d.join(name)
+}
+
+/// Writes a file under a fresh temporary folder and returns its path.
+pub fn write_tmp(name: &str, text: &str) -> PathBuf {
+    let p = tmp(name);
+    if let Some(d) = p.parent() {
+        std::fs::create_dir_all(d).unwrap();
+    }
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+pub fn exists(p: &Path) -> bool {
+    p.exists()
+}

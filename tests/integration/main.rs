@@ -1,0 +1,4 @@
+//! One integration test binary, organised by feature (the tiny-skia layout).
+
+mod common;
+mod render;
