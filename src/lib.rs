@@ -31,5 +31,6 @@ pub mod scene;
 pub mod shading;
 pub mod shapes;
 pub mod trace;
+pub mod viz;
 
 pub use error::{Error, Result};

@@ -1,0 +1,8 @@
+//! Figures, drawn with tiny-skia and labelled with a font embedded in the binary, so that
+//! every machine draws the same pixels. Every figure also keeps a display list (what was
+//! drawn, in order, with rounded coordinates) for snapshot tests.
+
+pub mod canvas;
+pub mod style;
+
+pub use canvas::{Anchor, Canvas, Prim};
