@@ -20,7 +20,7 @@ pub struct Args {
     /// Scene file: native rtlab JSON or a CS1230 scenefile.
     pub scene: PathBuf,
     /// The pixel: x from the left, y from the top.
-    #[arg(long, value_name = "X,Y")]
+    #[arg(long, value_name = "X,Y", allow_hyphen_values = true)]
     pub pixel: String,
     /// Show only this sample of the pixel (0-based).
     #[arg(long, value_name = "K")]
@@ -189,4 +189,36 @@ pub fn run(args: Args) -> Result<()> {
         _ => print!("{}", crate::cli::explain_text::text(&scene, &e)),
     }
     Ok(())
+}
+
+/// A copy of an explain document rounded for snapshot tests (DESIGN §5): colours to 3
+/// decimals, everything else (positions, t, weights) to 4, and −0.0 written as 0.0.
+pub fn rounded(value: &serde_json::Value) -> serde_json::Value {
+    fn walk(v: &serde_json::Value, digits: i32) -> serde_json::Value {
+        use serde_json::Value;
+        match v {
+            Value::Number(n) if n.is_f64() => {
+                let x = n.as_f64().unwrap_or(0.0);
+                let s = 10f64.powi(digits);
+                let r = (x * s).round() / s;
+                let r = if r == 0.0 { 0.0 } else { r };
+                serde_json::json!(r)
+            }
+            Value::Array(a) => Value::Array(a.iter().map(|x| walk(x, digits)).collect()),
+            Value::Object(m) => Value::Object(
+                m.iter()
+                    .map(|(k, x)| {
+                        let d = match k.as_str() {
+                            "color" | "ambient" | "diffuse" | "specular" | "reflected"
+                            | "transmitted" => 3,
+                            _ => digits,
+                        };
+                        (k.clone(), walk(x, d))
+                    })
+                    .collect(),
+            ),
+            other => other.clone(),
+        }
+    }
+    walk(value, 4)
 }

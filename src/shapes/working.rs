@@ -75,7 +75,7 @@ impl Working {
                 "tossed: behind the ray's origin (t < 0)".to_string()
             } else if !kept && hit_t == Some(c.t) {
                 kept = true;
-                "kept: the smallest t that is on the shape and in front".to_string()
+                "kept: the smallest t on this shape that is in front of the origin".to_string()
             } else if c.t > t_max {
                 format!(
                     "tossed: farther than a closer hit already found (t = {})",

@@ -259,8 +259,8 @@ impl<'a> Tracer<'a> {
                         None => DVec3::ONE,
                     };
                     let w = transmit * mask;
-                    if w.max_element() <= 0.0 {
-                        continue;
+                    if (weight * w).max_element() <= 0.0 {
+                        continue; // a one-channel ray splits no further: other channels carry nothing
                     }
                     let t = match refract(d, n, eta) {
                         Some(dir) => Ray::new(below, dir),
