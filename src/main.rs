@@ -6,7 +6,7 @@ use std::process::ExitCode;
 
 fn main() -> ExitCode {
     let cli = rtlab::cli::Cli::parse(); // usage errors exit with status 2 from clap
-    match rtlab::cli::run(cli) {
+    match rtlab::cli::run(cli, &mut std::io::stdout().lock()) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e}");

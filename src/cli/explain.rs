@@ -145,7 +145,7 @@ pub fn parse_pixel(s: &str, width: u32, height: u32) -> Result<(u32, u32)> {
     Ok((x as u32, y as u32))
 }
 
-pub fn run(args: Args) -> Result<()> {
+pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
     if !["text", "json", "yaml"].contains(&args.format.as_str()) {
         return Err(Error::arg(
             "--format",
@@ -180,15 +180,12 @@ pub fn run(args: Args) -> Result<()> {
     if let Some(k) = args.sample {
         e.samples.retain(|s| s.pixel == [x, y] && s.index == k);
     }
-    match args.format.as_str() {
-        "json" => println!(
-            "{}",
-            serde_json::to_string_pretty(&e).expect("serialisable")
-        ),
-        "yaml" => print!("{}", serde_yaml::to_string(&e).expect("serialisable")),
-        _ => print!("{}", crate::cli::explain_text::text(&scene, &e)),
-    }
-    Ok(())
+    let text = match args.format.as_str() {
+        "json" => serde_json::to_string_pretty(&e).expect("serialisable") + "\n",
+        "yaml" => serde_yaml::to_string(&e).expect("serialisable"),
+        _ => crate::cli::explain_text::text(&scene, &e),
+    };
+    super::emit(out, &text)
 }
 
 /// A copy of an explain document rounded for snapshot tests (DESIGN §5): colours to 3

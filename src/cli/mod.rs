@@ -3,6 +3,7 @@
 
 pub mod explain;
 pub mod explain_text;
+pub mod lessons;
 pub mod render;
 pub mod schema;
 pub mod validate;
@@ -12,6 +13,7 @@ use crate::error::{Error, Result};
 use crate::scene::{check_size, Encoding, FilterKind, SamplerKind, Scene};
 use clap::{Parser, Subcommand};
 use glam::DVec3;
+use std::io::Write;
 use std::path::PathBuf;
 
 #[derive(Debug, Parser)]
@@ -36,16 +38,26 @@ pub enum Command {
     Validate(validate::Args),
     /// Print the JSON Schema of the native scene format.
     Schema(schema::Args),
+    /// Build or check the book's figures from lessons/*.json.
+    Lessons(lessons::Args),
 }
 
-/// Runs a parsed command line.
-pub fn run(cli: Cli) -> Result<()> {
+/// Runs a parsed command line, writing what a command prints to `out` (stdout for the
+/// binary; a file or a buffer when `rtlab lessons` runs commands in-process).
+pub fn run(cli: Cli, out: &mut dyn Write) -> Result<()> {
     match cli.command {
-        Command::Render(a) => render::run(a),
-        Command::Explain(a) => explain::run(a),
-        Command::Validate(a) => validate::run(a),
-        Command::Schema(a) => schema::run(a),
+        Command::Render(a) => render::run(a, out),
+        Command::Explain(a) => explain::run(a, out),
+        Command::Validate(a) => validate::run(a, out),
+        Command::Schema(a) => schema::run(a, out),
+        Command::Lessons(a) => lessons::run(a, out),
     }
+}
+
+/// Writes to a command's output, turning a failed write (a closed pipe) into an error.
+pub fn emit(out: &mut dyn Write, text: &str) -> Result<()> {
+    out.write_all(text.as_bytes())
+        .map_err(|e| Error::Other(format!("cannot write the output: {e}")))
 }
 
 /// Options that change what a pixel is (shared by render, explain, steps, compare).

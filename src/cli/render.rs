@@ -44,7 +44,7 @@ pub fn with_threads<T: Send>(threads: Option<usize>, f: impl FnOnce() -> T + Sen
     }
 }
 
-pub fn run(args: Args) -> Result<()> {
+pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
     let stats_format = match args.stats.as_deref() {
         None => None,
         Some(f @ ("text" | "json")) => Some(f.to_string()),
@@ -109,10 +109,12 @@ pub fn run(args: Args) -> Result<()> {
                 "spp": scene.render.spp,
                 "output": out.display().to_string(),
             });
-            println!(
-                "{}",
-                serde_json::to_string_pretty(&v).expect("serialisable")
-            );
+            super::emit(
+                stdout,
+                &(serde_json::to_string_pretty(&v).expect("serialisable")
+                    + "
+"),
+            )?;
         } else {
             let r = stats.rays;
             eprintln!(

@@ -8,7 +8,6 @@ pub const SCHEMA: &str = include_str!("../scene/schema.json");
 #[derive(Debug, clap::Args)]
 pub struct Args {}
 
-pub fn run(_args: Args) -> Result<()> {
-    println!("{}", SCHEMA.trim_end());
-    Ok(())
+pub fn run(_args: Args, out: &mut dyn std::io::Write) -> Result<()> {
+    super::emit(out, SCHEMA)
 }

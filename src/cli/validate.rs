@@ -10,13 +10,13 @@ pub struct Args {
     pub scene: PathBuf,
 }
 
-pub fn run(args: Args) -> Result<()> {
+pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
     let scene = Scene::load(&args.scene)?;
     let format = match scene.format {
         SceneFormat::Native => "rtlab scene",
         SceneFormat::Cs1230 => "CS1230 scenefile",
     };
-    println!(
+    let text = format!(
         "{}: valid {format}: {} object(s), {} light(s), {} material(s), {}×{} pixels",
         args.scene.display(),
         scene.objects.len(),
@@ -25,5 +25,5 @@ pub fn run(args: Args) -> Result<()> {
         scene.camera.width,
         scene.camera.height
     );
-    Ok(())
+    super::emit(out, &(text + "\n"))
 }
