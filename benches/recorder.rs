@@ -28,10 +28,18 @@ fn median(mut v: Vec<f64>) -> f64 {
 }
 
 fn main() {
-    assert_eq!(std::mem::size_of::<NoRecorder>(), 0, "the render recorder must be zero-sized");
-    println!("{:<22} {:>14} {:>14} {:>8}", "scene (single thread)", "NoRecorder ms", "Counter ms", "ratio");
+    assert_eq!(
+        std::mem::size_of::<NoRecorder>(),
+        0,
+        "the render recorder must be zero-sized"
+    );
+    println!(
+        "{:<22} {:>14} {:>14} {:>8}",
+        "scene (single thread)", "NoRecorder ms", "Counter ms", "ratio"
+    );
     for name in ["spheres", "glass", "teapot", "mirrors"] {
-        let mut scene = Scene::load(std::path::Path::new(&format!("scenes/{name}.json"))).expect("scene loads");
+        let mut scene =
+            Scene::load(std::path::Path::new(&format!("scenes/{name}.json"))).expect("scene loads");
         scene.camera.update_size(320, 240);
         let (mut a, mut b) = (Vec::new(), Vec::new());
         let mut check = (0.0, 0.0);

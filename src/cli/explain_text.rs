@@ -86,9 +86,13 @@ fn ray(o: &mut String, scene: &Scene, n: &RayNode, depth: usize) {
         .channel
         .map(|c| format!(" [{c} channel]"))
         .unwrap_or_default();
+    let weight = n
+        .weight
+        .map(|w| format!(", weight {}", color(w)))
+        .unwrap_or_default();
     let _ = writeln!(
         o,
-        "{pad}{}{channel} (depth {}): origin {}, direction {}",
+        "{pad}{}{channel} (depth {}): origin {}, direction {}{weight}",
         kind_name(n.kind),
         n.depth,
         v3(n.origin),

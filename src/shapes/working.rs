@@ -72,7 +72,8 @@ impl Working {
             c.note = if !c.on_shape {
                 format!("tossed: {}", c.off_shape_reason)
             } else if !c.in_front && c.t.abs() < 1e-5 {
-                "tossed: t ≈ 0 is the surface this ray starts from (its origin is nudged off it)".to_string()
+                "tossed: t ≈ 0 is the surface this ray starts from (its origin is nudged off it)"
+                    .to_string()
             } else if !c.in_front {
                 "tossed: behind the ray's origin (t < 0)".to_string()
             } else if !kept && hit_t == Some(c.t) {

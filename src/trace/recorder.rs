@@ -67,6 +67,8 @@ pub trait Recorder {
     fn transmitted(&mut self, _c: DVec3) {}
     /// A refraction child carries only one colour channel (dispersion).
     fn channel(&mut self, _channel: usize) {}
+    /// The weight the next child ray's colour will be multiplied by (ks·Or, kt·Ot, ...).
+    fn weight(&mut self, _w: DVec3) {}
     fn end_ray(&mut self, _color: DVec3, _end: End, _clamped: bool) {}
 }
 

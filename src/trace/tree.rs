@@ -19,6 +19,10 @@ pub struct RayNode {
     /// For dispersion: the one colour channel this refraction ray carries.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub channel: Option<&'static str>,
+    /// What the parent multiplies this ray's colour by (ks·Or for reflection, kt·Ot for
+    /// transmission, masked to one channel for dispersion); absent on camera and shadow rays.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub weight: Option<DVec3>,
     pub tests: Vec<TestNode>,
     /// BVH nodes visited (0 with the linear list).
     pub bvh_nodes: u32,
@@ -114,6 +118,7 @@ pub struct TreeRecorder<'a> {
     working: Working,
     stack: Vec<RayNode>,
     pending_channel: Option<&'static str>,
+    pending_weight: Option<DVec3>,
     /// The finished tree of the camera ray.
     pub root: Option<RayNode>,
 }
@@ -125,6 +130,7 @@ impl<'a> TreeRecorder<'a> {
             working: Working::default(),
             stack: Vec::new(),
             pending_channel: None,
+            pending_weight: None,
             root: None,
         }
     }
@@ -151,12 +157,18 @@ impl Recorder for TreeRecorder<'_> {
 
     fn begin_ray(&mut self, kind: RayKind, depth: u32, ray: &Ray) {
         let channel = self.pending_channel.take();
+        let weight = if kind == RayKind::Shadow {
+            None
+        } else {
+            self.pending_weight.take()
+        };
         self.stack.push(RayNode {
             kind,
             depth,
             origin: ray.origin,
             direction: ray.dir,
             channel,
+            weight,
             tests: Vec::new(),
             bvh_nodes: 0,
             hit: None,
@@ -246,6 +258,10 @@ impl Recorder for TreeRecorder<'_> {
 
     fn channel(&mut self, channel: usize) {
         self.pending_channel = Some(["r", "g", "b"][channel]);
+    }
+
+    fn weight(&mut self, w: DVec3) {
+        self.pending_weight = Some(w);
     }
 
     fn end_ray(&mut self, color: DVec3, end: End, clamped: bool) {

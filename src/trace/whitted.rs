@@ -217,6 +217,7 @@ impl<'a> Tracer<'a> {
         };
         if spawn(w_reflect, &mut end) {
             let r = Ray::new(above, reflect(d, n));
+            rec.weight(w_reflect);
             let i_r = self.trace(
                 &r,
                 RayKind::Reflection,
@@ -235,6 +236,7 @@ impl<'a> Tracer<'a> {
             let mut c = DVec3::ZERO;
             if !m.refract {
                 let t = Ray::new(below, d);
+                rec.weight(transmit);
                 c = transmit
                     * self.trace(
                         &t,
@@ -272,6 +274,7 @@ impl<'a> Tracer<'a> {
                     if let Some(k) = ch {
                         rec.channel(k);
                     }
+                    rec.weight(w);
                     c += w * self.trace(&t, RayKind::Refraction, depth + 1, weight * w, rng, rec);
                 }
             }

@@ -24,15 +24,28 @@ fn check_sums(node: &RayNode, at: &str) {
             node.color
         );
     }
-    // The parent's reflected term is the reflection child's colour times its weight: at least
-    // check that a child exists when the term is non-zero.
+    // The parent's reflected and transmitted terms are its children's colours times their weights.
     if let Some(s) = &node.shading {
-        if s.reflected != glam::DVec3::ZERO {
-            assert!(
-                node.children.iter().any(|c| c.kind == RayKind::Reflection),
-                "{at}: reflected term without a reflection ray"
-            );
+        let mut refl = glam::DVec3::ZERO;
+        let mut trans = glam::DVec3::ZERO;
+        for c in &node.children {
+            let w = c.weight.unwrap_or(glam::DVec3::ZERO);
+            match c.kind {
+                RayKind::Reflection => refl += w * c.color,
+                RayKind::Refraction | RayKind::Transmission => trans += w * c.color,
+                _ => assert!(c.weight.is_none(), "{at}: a weight on a {:?} ray", c.kind),
+            }
         }
+        assert!(
+            (s.reflected - refl).abs().max_element() < 1e-12,
+            "{at}: reflected {} != Σ weight·colour {refl}",
+            s.reflected
+        );
+        assert!(
+            (s.transmitted - trans).abs().max_element() < 1e-12,
+            "{at}: transmitted {} != Σ weight·colour {trans}",
+            s.transmitted
+        );
     }
     for (i, c) in node.children.iter().enumerate() {
         check_sums(c, &format!("{at}/{i}"));
