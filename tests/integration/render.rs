@@ -53,3 +53,86 @@ fn same_bytes_on_any_thread_count() {
     }
     assert_eq!(std::fs::read(&out1).unwrap(), std::fs::read(&out2).unwrap());
 }
+
+#[test]
+fn stats_json_has_the_contract_keys_and_counts_add_up() {
+    let out = tmp("stats.png");
+    let s = path("scenes/spheres.json");
+    let o = rtlab(&[
+        "render",
+        s.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--width",
+        "64",
+        "--height",
+        "48",
+        "--stats",
+        "json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let r = &v["rays"];
+    let sum: u64 = ["camera", "shadow", "reflection", "refraction"]
+        .iter()
+        .map(|k| r[k].as_u64().unwrap())
+        .sum();
+    assert_eq!(sum, r["total"].as_u64().unwrap());
+    assert_eq!(r["camera"].as_u64().unwrap(), 64 * 48);
+    for k in ["load", "build", "trace"] {
+        assert!(v["seconds"][k].as_f64().unwrap() >= 0.0);
+    }
+    assert!(v["mrays_per_s"].as_f64().unwrap() > 0.0);
+}
+
+#[test]
+fn default_output_is_the_scene_stem_in_the_current_folder() {
+    let dir = tmp("default-out");
+    std::fs::create_dir_all(&dir).unwrap();
+    let s = path("scenes/spheres.json");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_rtlab"))
+        .args([
+            "render",
+            s.to_str().unwrap(),
+            "--width",
+            "16",
+            "--height",
+            "12",
+            "--quiet",
+        ])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(dir.join("spheres.png").exists());
+}
+
+#[test]
+fn depth_of_field_blurs_deterministically_and_can_be_switched_off() {
+    let scene = r#"{
+      "camera": {"position": [0, 0, 6], "fov_y": 30, "width": 48, "height": 32, "aperture": 0.6, "focal_distance": 6},
+      "render": {"spp": 16, "sampler": "jittered"},
+      "lights": [{"type": "directional", "direction": [0, 0, -1]}],
+      "objects": [{"shape": "sphere", "radius": 1}, {"shape": "sphere", "center": [2, 0, -6], "radius": 1}]
+    }"#;
+    let p = write_tmp("dof.json", scene);
+    let render_to = |name: &str, extra: &[&str]| {
+        let out = tmp(name);
+        let mut args = vec![
+            "render",
+            p.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--quiet",
+        ];
+        args.extend_from_slice(extra);
+        let o = rtlab(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        std::fs::read(out).unwrap()
+    };
+    let a = render_to("dof1.png", &[]);
+    let b = render_to("dof2.png", &["--threads", "1"]);
+    let pinhole = render_to("dof3.png", &["--no-depth-of-field"]);
+    assert_eq!(a, b, "same bytes on any thread count");
+    assert_ne!(a, pinhole, "the aperture blurs the out-of-focus sphere");
+}
