@@ -103,6 +103,11 @@ pub struct RenderSettings {
     pub refractions: bool,
     pub textures: bool,
     pub depth_of_field: bool,
+    /// Which local terms of the lighting equation are on (for `steps`, which builds the
+    /// image up term by term with the one tracer).
+    pub ambient: bool,
+    pub diffuse: bool,
+    pub specular: bool,
     pub accel: AccelKind,
     /// Clamp every traced colour to [0, 1] before it is used (the course's renderer does).
     pub clamp_each_ray: bool,
@@ -126,6 +131,9 @@ impl Default for RenderSettings {
             refractions: true,
             textures: true,
             depth_of_field: true,
+            ambient: true,
+            diffuse: true,
+            specular: true,
             accel: AccelKind::Bvh,
             clamp_each_ray: false,
             epsilon: 1e-7,

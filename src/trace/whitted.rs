@@ -112,10 +112,12 @@ impl<'a> Tracer<'a> {
         } else {
             DVec3::ONE - transmit
         };
+        let on = |flag: bool| if flag { 1.0 } else { 0.0 };
+        let st = self.settings;
         let shading = Shading {
-            ambient: g.ka * m.ambient * local_weight,
-            diffuse,
-            specular: g.ks * m.specular,
+            ambient: g.ka * m.ambient * local_weight * on(st.ambient),
+            diffuse: diffuse * on(st.diffuse),
+            specular: g.ks * m.specular * on(st.specular),
             shininess: m.shininess,
             local_weight,
         };
@@ -149,7 +151,8 @@ impl<'a> Tracer<'a> {
         rec.ambient(ambient);
         let mut color = ambient;
 
-        for (li, light) in scene.lights.iter().enumerate() {
+        let lights = if self.settings.diffuse || self.settings.specular { &scene.lights[..] } else { &[] };
+        for (li, light) in lights.iter().enumerate() {
             let count = light.sample_count();
             let mut term = LightTerm {
                 light: li,
