@@ -151,7 +151,11 @@ impl<'a> Tracer<'a> {
         rec.ambient(ambient);
         let mut color = ambient;
 
-        let lights = if self.settings.diffuse || self.settings.specular { &scene.lights[..] } else { &[] };
+        let lights = if self.settings.diffuse || self.settings.specular {
+            &scene.lights[..]
+        } else {
+            &[]
+        };
         for (li, light) in lights.iter().enumerate() {
             let count = light.sample_count();
             let mut term = LightTerm {
