@@ -98,6 +98,7 @@ impl Light {
                 );
                 s
             }
+            // ANCHOR: area_sample
             LightKind::Area {
                 corner,
                 edge_u,
@@ -111,6 +112,7 @@ impl Light {
                 let q = *corner + *edge_u * su + *edge_v * sv;
                 self.towards(p, q, 1.0, 1.0 / (nu * nv) as f64)
             }
+            // ANCHOR_END: area_sample
         }
     }
 
