@@ -313,7 +313,14 @@ fn errors_name_the_file_the_json_path_and_the_problem() {
         ("spot_without_angle.json", format!(r#"{{{HEAD}, "groups": [{{"lights": [{{"type": "spot", "color": [1, 1, 1], "direction": [0, -1, 0], "penumbra": 5, "attenuationCoeff": [1, 0, 0]}}]}}]}}"#),
             "groups[0].lights[0]", "missing required key \"angle\""),
     ];
-    for (name, body, at, msg) in cases {
+    // A texture file that exists but is not an image: an error (only a missing one is skipped).
+    let bad = tmp("course/textures/not_an_image.png");
+    std::fs::create_dir_all(bad.parent().unwrap()).unwrap();
+    std::fs::write(&bad, "this is not a PNG").unwrap();
+    let mut cases = cases.to_vec();
+    cases.push(("bad_texture.json", format!(r#"{{{HEAD}, "groups": [{{"primitives": [{{"type": "cube", "textureFile": "textures/not_an_image.png", "blend": 1}}]}}]}}"#),
+        "groups[0].primitives[0].textureFile", "cannot decode texture image"));
+    for (name, body, at, msg) in &cases {
         let p = course_file(name, body);
         let o = rtlab(&["validate", p.to_str().unwrap()]);
         let e = stderr(&o);

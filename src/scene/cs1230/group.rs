@@ -334,7 +334,8 @@ fn matrix(n: &Node) -> Result<DMat4> {
             ),
         ));
     }
-    if !(m.determinant().abs() > 1e-12) {
+    let det = m.determinant();
+    if !det.is_finite() || det.abs() <= 1e-12 {
         return Err(n.err(
             "the matrix is singular (its determinant is 0): it flattens everything in the group to nothing",
         ));

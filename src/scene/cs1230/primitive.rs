@@ -131,7 +131,10 @@ pub fn parse(ctx: &mut Ctx, n: &Node) -> Result<Prim> {
         let mesh = match ctx.meshes.get(&p) {
             Some(m) => m.clone(),
             None => {
-                let m = Arc::new(crate::scene::obj::load(&p)?);
+                // The OBJ's own error (file, line) behind the scenefile's JSON path.
+                let m = crate::scene::obj::load(&p)
+                    .map_err(|e| Error::input(n.file, o.child_path("meshFile"), e.to_string()))?;
+                let m = Arc::new(m);
                 ctx.meshes.insert(p.clone(), m.clone());
                 m
             }
@@ -209,7 +212,8 @@ fn texture(
     let source = match ctx.textures.get(&p) {
         Some(s) => s.clone(),
         None => {
-            let s = load_texture(&p)?;
+            let s = load_texture(&p)
+                .map_err(|e| Error::input(n.file, o.child_path("textureFile"), e.to_string()))?;
             ctx.textures.insert(p.clone(), s.clone());
             s
         }
