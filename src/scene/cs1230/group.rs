@@ -53,7 +53,6 @@ pub struct Ctx<'a> {
     pub file: &'a Path,
     pub base: PathBuf,
     templates: Vec<Option<Group>>,
-    template_names: Vec<String>,
     by_name: HashMap<String, usize>,
     /// Templates whose definition is being read (a reference to one of them is a cycle).
     parsing: Vec<usize>,
@@ -71,7 +70,6 @@ impl<'a> Ctx<'a> {
             file,
             base,
             templates: Vec::new(),
-            template_names: Vec::new(),
             by_name: HashMap::new(),
             parsing: Vec::new(),
             all_names: Vec::new(),
@@ -98,7 +96,6 @@ impl<'a> Ctx<'a> {
             ));
         }
         self.templates.push(None);
-        self.template_names.push(name.clone());
         self.by_name.insert(name, index);
         self.parsing.push(index);
         let g = self.group(n);
