@@ -546,3 +546,31 @@ fn missing_textures_draw_without_the_texture() {
     assert!(String::from_utf8_lossy(&o.stdout)
         .contains("groups[6].primitives[0].textureFile: texture not found"));
 }
+
+#[test]
+fn camera_focus_is_a_point_look_a_direction_and_the_lens_is_read() {
+    let cam = |c: &str| {
+        let body = format!(
+            r#"{{"globalData": {{"ambientCoeff": 1, "diffuseCoeff": 1, "specularCoeff": 1}}, "cameraData": {c}}}"#
+        );
+        Scene::load(&course_file("camera.json", &body))
+            .unwrap()
+            .camera
+    };
+    let a =
+        cam(r#"{"position": [1, 2, 3], "focus": [1, 2, -7], "up": [0, 1, 0], "heightAngle": 45}"#);
+    let b =
+        cam(r#"{"position": [1, 2, 3], "look": [0, 0, -10], "up": [0, 1, 0], "heightAngle": 45}"#);
+    assert_eq!(a.basis, b.basis);
+    assert_eq!(a.basis[2], DVec3::Z); // w = −look
+    assert_eq!((a.fov_y, a.aperture), (45.0, 0.0));
+    let c = cam(
+        r#"{"position": [0, 0, 0], "look": [0, 0, -1], "up": [0, 1, 0], "heightAngle": 60, "aperture": 0.2, "focalLength": 4}"#,
+    );
+    assert_eq!((c.aperture, c.focal_distance), (0.2, 4.0));
+    // The full vertical field of view: the top edge of the film is at tan(30°) (FORMAT §3).
+    let top = c
+        .world_from_canonical
+        .transform_point3(DVec3::new(0.0, 1.0, -1.0));
+    assert!((top.y - 30f64.to_radians().tan()).abs() < 1e-12);
+}
