@@ -6,6 +6,7 @@ pub mod explain_text;
 pub mod lessons;
 pub mod render;
 pub mod schema;
+pub mod steps;
 pub mod validate;
 
 use crate::accel::AccelKind;
@@ -40,6 +41,9 @@ pub enum Command {
     Schema(schema::Args),
     /// Build or check the book's figures from lessons/*.json.
     Lessons(lessons::Args),
+    /// The image built up step by step: visibility, normals, each lighting term, shadows,
+    /// reflection depth by depth, refraction (frames, index.json, optional GIF).
+    Steps(steps::Args),
 }
 
 /// Runs a parsed command line, writing what a command prints to `out` (stdout for the
@@ -51,6 +55,7 @@ pub fn run(cli: Cli, out: &mut dyn Write) -> Result<()> {
         Command::Validate(a) => validate::run(a, out),
         Command::Schema(a) => schema::run(a, out),
         Command::Lessons(a) => lessons::run(a, out),
+        Command::Steps(a) => steps::run(a, out),
     }
 }
 

@@ -38,7 +38,7 @@ impl Aov {
         (
             Aov::Depth,
             "depth",
-            "distance t along the camera ray (near white, far dark)",
+            "distance t along the camera ray (near white, far dark, by 1/t)",
         ),
         (
             Aov::Normal,
@@ -153,8 +153,11 @@ impl Aov {
         };
         match self {
             Aov::Depth => {
-                let x = ((hit.t - r.near) / (r.far - r.near).max(1e-12)).clamp(0.0, 1.0);
-                DVec3::splat(1.0 - 0.8 * x)
+                // Scaled by 1/t (like a disparity map): a floor running to the horizon would
+                // otherwise leave everything near the camera the same white.
+                let (a, b) = (1.0 / r.near.max(1e-9), 1.0 / r.far.max(1e-9));
+                let x = ((1.0 / hit.t.max(1e-9) - b) / (a - b).max(1e-12)).clamp(0.0, 1.0);
+                DVec3::splat(0.2 + 0.8 * x)
             }
             Aov::Normal => 0.5 + 0.5 * hit.normal,
             Aov::ObjectId => object_color(hit.object),
@@ -408,7 +411,7 @@ fn legend(aov: Aov, r: &Ranges, scene: &Scene) -> String {
     let head = format!("{}: {}", aov.name(), aov.describe());
     let how = match aov {
         Aov::Depth => format!(
-            "white: t <= {:.3}, dark grey: t >= {:.3} (2nd and 98th percentile of the hits), black: no hit",
+            "brightness 0.2 + 0.8·(1/t − 1/far)/(1/near − 1/far), white: t <= {:.3} (near), dark grey: t >= {:.3} (far; 2nd and 98th percentile of the hits), black: no hit",
             r.near, r.far
         ),
         Aov::Normal => "x → red, y → green, z → blue; black: no hit".into(),
