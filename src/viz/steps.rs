@@ -202,7 +202,7 @@ pub fn render_frames(scene: &Scene, steps: &[Step], skipped: &mut Vec<Skipped>) 
             let why = match step.name.as_str() {
                 "shadows" => "no shadow ray is blocked anywhere in the image",
                 n if n.starts_with("reflection") => {
-                    "no pixel changes: no reflection ray of this depth carries enough weight"
+                    "no pixel changes (no reflection ray gets this deep, or what it brings back is too faint to change a byte)"
                 }
                 _ => "no pixel changes",
             };

@@ -6,3 +6,4 @@ mod explain;
 mod render;
 mod shading;
 mod shapes;
+mod steps;
