@@ -446,7 +446,7 @@ fn legend(aov: Aov, r: &Ranges, scene: &Scene) -> String {
 /// A distinct, stable colour for object `i`: hues spaced by the golden angle.
 pub fn object_color(i: usize) -> DVec3 {
     let hue = (i as f64 * 0.618_033_988_749_895 + 0.1).fract();
-    let (s, v) = if i % 2 == 0 {
+    let (s, v) = if i & 1 == 0 {
         (0.7, 0.95)
     } else {
         (0.55, 0.75)
