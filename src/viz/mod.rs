@@ -3,6 +3,8 @@
 //! drawn, in order, with rounded coordinates) for snapshot tests.
 
 pub mod canvas;
+pub mod labels;
+pub mod slice;
 pub mod style;
 
 pub use canvas::{Anchor, Canvas, Prim};
