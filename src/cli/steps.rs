@@ -5,14 +5,20 @@
 //! `index.json` = `[{"file": "001-visibility.png", "caption": "..."}, ...]` (version 1: add
 //! keys, never rename), and with `--gif` an animated `steps.gif`. When `-o` names a `.png`
 //! file instead, all frames (or those of `--frames`) go on one contact sheet.
+//! `--pixel X,Y` makes a storyboard of one pixel instead: frame k adds the k-th ray of its
+//! ray tree, drawn on the slice figure of [`crate::viz::slice`].
 //! `--forward` draws forward against backward tracing instead (see [`crate::trace::forward`]).
 
+use super::explain::{explain, parse_pixel};
 use super::render::with_threads;
 use super::RenderArgs;
 use crate::error::{Error, Result};
 use crate::output::{check_png, write_atomic, write_png};
 use crate::trace::forward::trace_photons;
-use crate::viz::steps::{captioned, contact_sheet, file_name, gif, plan, render_frames};
+use crate::viz::slice::SlicePlane;
+use crate::viz::steps::{
+    captioned, contact_sheet, file_name, gif, plan, render_frames, storyboard,
+};
 use std::path::{Path, PathBuf};
 
 #[derive(Debug, clap::Args)]
@@ -36,6 +42,14 @@ pub struct Args {
     /// Columns of the contact sheet.
     #[arg(long, value_name = "N", default_value_t = 3)]
     pub columns: usize,
+    /// Storyboard of one pixel instead: frame k draws the first k rays of its ray tree (its
+    /// first sample) on a 2D slice of the scene.
+    #[arg(long, value_name = "X,Y")]
+    pub pixel: Option<String>,
+    /// The slice of --pixel: camera (the camera ray and the camera's up vector) or bounce
+    /// (the camera ray and its first reflection or refraction).
+    #[arg(long, value_name = "camera|bounce", default_value = "camera")]
+    pub plane: String,
     /// Forward against backward tracing: trace photons from the lights and count how many
     /// ever reach the film, next to the camera rays' image.
     #[arg(long)]
@@ -91,12 +105,44 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
     if args.columns == 0 {
         return Err(Error::arg("--columns", "must be at least 1"));
     }
+    if args.forward && args.pixel.is_some() {
+        return Err(Error::arg(
+            "--forward",
+            "cannot be combined with --pixel (forward tracing has no pixel to follow)",
+        ));
+    }
     let scene = args.render.load(&args.scene)?;
     if args.forward {
         return forward(&args, &scene, out);
     }
-    let (steps, mut skipped) = plan(&scene);
-    let frames = with_threads(args.threads, || render_frames(&scene, &steps, &mut skipped))?;
+    let (frames, skipped) = match &args.pixel {
+        Some(p) => {
+            let (x, y) = parse_pixel(p, scene.camera.width, scene.camera.height)?;
+            let plane = SlicePlane::parse(&args.plane).ok_or_else(|| {
+                Error::arg(
+                    "--plane",
+                    format!(
+                        "unknown plane \"{}\" (expected camera or bounce)",
+                        args.plane
+                    ),
+                )
+            })?;
+            let e = explain(&scene, x, y);
+            let sample = e
+                .samples
+                .iter()
+                .find(|s| s.pixel == [x, y])
+                .ok_or_else(|| Error::Other(format!("pixel ({x}, {y}) has no sample")))?;
+            let frames = storyboard(&scene, &sample.ray, (x, y), plane, e.color)?;
+            (frames, Vec::new())
+        }
+        None => {
+            let (steps, mut skipped) = plan(&scene);
+            let frames =
+                with_threads(args.threads, || render_frames(&scene, &steps, &mut skipped))?;
+            (frames, skipped)
+        }
+    };
     let mut text = String::new();
 
     if sheet {

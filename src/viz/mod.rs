@@ -4,6 +4,8 @@
 
 pub mod canvas;
 pub mod forward;
+pub mod labels;
+pub mod slice;
 pub mod steps;
 pub mod style;
 

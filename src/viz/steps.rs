@@ -10,6 +10,7 @@ use crate::sampling::aov::{render_aov, Aov};
 use crate::sampling::render;
 use crate::scene::{RenderSettings, Scene};
 use crate::shading::LightKind;
+use crate::trace::RayNode;
 use std::path::Path;
 
 /// How a step's picture is made.
@@ -184,6 +185,8 @@ pub struct Frame {
     pub name: String,
     pub caption: String,
     pub image: image::RgbImage,
+    /// The image already carries its caption (the storyboard's slice figures).
+    pub labelled: bool,
 }
 
 /// Renders the planned steps. A step whose image is identical to the previous frame's adds
@@ -213,6 +216,7 @@ pub fn render_frames(scene: &Scene, steps: &[Step], skipped: &mut Vec<Skipped>) 
             name: step.name.clone(),
             caption: step.caption.clone(),
             image,
+            labelled: false,
         });
     }
     frames
@@ -230,6 +234,9 @@ fn strip_height(width: u32) -> u32 {
 
 /// The frame with its caption in a strip underneath (the image itself is untouched).
 pub fn captioned(frame: &Frame, number: usize, total: usize) -> image::RgbImage {
+    if frame.labelled {
+        return frame.image.clone();
+    }
     let (w, h) = frame.image.dimensions();
     let sh = strip_height(w);
     let mut c = Canvas::new(w, h + sh, style::ink());
@@ -315,4 +322,92 @@ pub fn gif(frames: &[Frame], path: &Path) -> Result<Vec<u8>> {
         }
     }
     Ok(bytes)
+}
+
+/// One line for event `k` of a pixel's ray tree (preorder, as [`super::slice`] counts them).
+pub fn describe_event(node: &RayNode) -> String {
+    use crate::trace::{End, RayKind};
+    let kind = match node.kind {
+        RayKind::Camera => "camera ray",
+        RayKind::Shadow => "shadow ray",
+        RayKind::Reflection => "reflection ray",
+        RayKind::Refraction => "refraction ray",
+        RayKind::Transmission => "transmission ray",
+    };
+    let depth = if node.depth > 0 && node.kind != RayKind::Shadow {
+        format!(" (depth {})", node.depth)
+    } else {
+        String::new()
+    };
+    let mut s = match (&node.hit, node.kind, node.end) {
+        (Some(h), RayKind::Shadow, _) => {
+            format!(
+                "{kind} blocked by {} at t = {:.3}: in shadow",
+                h.object, h.t
+            )
+        }
+        (None, RayKind::Shadow, _) => format!("{kind} reaches its light: lit"),
+        (Some(h), _, _) => format!("{kind}{depth} hits {} at t = {:.3}", h.object, h.t),
+        (None, _, _) => format!("{kind}{depth} hits nothing: background colour"),
+    };
+    match node.end {
+        End::MaxDepth => s += "; max depth reached, no further rays",
+        End::TotalInternalReflection => s += "; total internal reflection",
+        End::Cutoff => s += "; a further ray would be too faint (cutoff)",
+        _ => {}
+    }
+    s
+}
+
+/// The events of a ray tree in the order the tracer cast them (depth first).
+pub fn events(tree: &RayNode) -> Vec<&RayNode> {
+    fn walk<'a>(n: &'a RayNode, out: &mut Vec<&'a RayNode>) {
+        out.push(n);
+        for c in &n.children {
+            walk(c, out);
+        }
+    }
+    let mut out = Vec::new();
+    walk(tree, &mut out);
+    out
+}
+
+/// The storyboard of one pixel: frame k draws the first k events of its ray tree on the
+/// slice figure of [`super::slice`], the newest one emphasised.
+pub fn storyboard(
+    scene: &Scene,
+    tree: &RayNode,
+    pixel: (u32, u32),
+    plane: super::slice::SlicePlane,
+    color: glam::DVec3,
+) -> Result<Vec<Frame>> {
+    let all = events(tree);
+    debug_assert_eq!(all.len(), super::slice::event_count(tree));
+    let n = all.len();
+    let mut frames = Vec::with_capacity(n);
+    for (k, node) in all.iter().enumerate() {
+        let mut caption = describe_event(node);
+        if k + 1 == n {
+            caption += &format!(
+                "; pixel colour ({:.3}, {:.3}, {:.3})",
+                color.x, color.y, color.z
+            );
+        }
+        let opts = super::slice::SliceOptions {
+            plane,
+            events: Some(k + 1),
+            // The slice's own title line is short; the event is told in the strip below.
+            caption: Some(format!("pixel ({}, {})", pixel.0, pixel.1)),
+            ..Default::default()
+        };
+        let image = super::slice::draw(scene, tree, &opts)?.to_rgb();
+        let name = format!("{:?}", node.kind).to_ascii_lowercase();
+        frames.push(Frame {
+            name,
+            caption,
+            image,
+            labelled: false,
+        });
+    }
+    Ok(frames)
 }

@@ -3,6 +3,7 @@
 mod book;
 mod common;
 mod explain;
+mod intersect;
 mod render;
 mod shading;
 mod shapes;

@@ -409,3 +409,52 @@ fn forward_tracing_counts_add_up_and_few_photons_reach_the_film() {
         assert!((p - film).length() < 1e-9, "{p} vs {film}");
     }
 }
+
+#[test]
+fn pixel_storyboard_has_one_frame_per_event_of_the_ray_tree() {
+    let dir = tmp("steps-pixel");
+    let size = ["--width", "160", "--height", "100"];
+    let mut extra = vec!["--pixel", "40,35", "--gif"];
+    extra.extend_from_slice(&size);
+    let out = run_steps("scenes/glass.json", &dir, &extra);
+    let mut scene = scene("scenes/glass.json");
+    scene.camera.update_size(160, 100);
+    let e = rtlab::cli::explain::explain(&scene, 40, 35);
+    let tree = &e.samples[0].ray;
+    let n = rtlab::viz::slice::event_count(tree);
+    assert!(n >= 4, "a glass pixel spawns several rays ({n})");
+    let index: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("index.json")).unwrap()).unwrap();
+    let list = index.as_array().unwrap();
+    assert_eq!(list.len(), n, "{out}");
+    assert_eq!(list[0]["file"], "001-camera.png");
+    assert!(list[0]["caption"]
+        .as_str()
+        .unwrap()
+        .starts_with("camera ray hits glass ball"));
+    // Each frame's name is the kind of the ray it adds, in the tracer's order.
+    let kinds: Vec<String> = rtlab::viz::steps::events(tree)
+        .iter()
+        .map(|r| format!("{:?}", r.kind).to_ascii_lowercase())
+        .collect();
+    for (i, e) in list.iter().enumerate() {
+        assert_eq!(e["file"], format!("{:03}-{}.png", i + 1, kinds[i]));
+    }
+    let last = list.last().unwrap()["caption"].as_str().unwrap();
+    assert!(
+        last.contains(&format!("pixel colour ({:.3}, ", e.color.x)),
+        "{last}"
+    );
+    // Consecutive frames differ (each adds a ray) and the GIF holds every frame.
+    for i in 1..n {
+        let a = std::fs::read(dir.join(list[i - 1]["file"].as_str().unwrap())).unwrap();
+        let b = std::fs::read(dir.join(list[i]["file"].as_str().unwrap())).unwrap();
+        assert_ne!(a, b, "frame {} adds nothing", i + 1);
+    }
+    let again = tmp("steps-pixel-2");
+    run_steps("scenes/glass.json", &again, &extra);
+    assert_eq!(
+        std::fs::read(dir.join("steps.gif")).unwrap(),
+        std::fs::read(again.join("steps.gif")).unwrap()
+    );
+}
