@@ -458,3 +458,22 @@ fn pixel_storyboard_has_one_frame_per_event_of_the_ray_tree() {
         std::fs::read(again.join("steps.gif")).unwrap()
     );
 }
+
+#[test]
+fn cost_aov_counts_what_stats_count() {
+    // The cost AOV and `--stats` watch the same tracer: per pixel, the same work.
+    let scene = small("scenes/mirrors.json", 48, 30);
+    let stats = render(&scene, &scene.render, true, None).stats.unwrap();
+    let samples = trace_aov_samples(&scene, &scene.render);
+    for (i, px) in samples.pixels.iter().enumerate() {
+        let cost: u64 = px.iter().map(|s| s.1.cost).sum();
+        assert_eq!(cost, stats.cost[i], "pixel {i}");
+        for (_, s) in px {
+            assert!(s.ray_depth <= scene.render.max_depth);
+        }
+    }
+    assert!(samples
+        .pixels
+        .iter()
+        .any(|p| p[0].1.ray_depth == scene.render.max_depth));
+}
