@@ -93,6 +93,11 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
                 "needs -o to be a folder (the GIF is written next to the frames)",
             ));
         }
+    } else if !args.frames.is_empty() {
+        return Err(Error::arg(
+            "--frames",
+            "chooses the frames of a contact sheet: give -o a .png file name",
+        ));
     } else if args.output.is_file() {
         return Err(Error::arg(
             "-o",
@@ -178,7 +183,12 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
             write_atomic(&path, &bytes)?;
             text += "steps.gif  all frames, animated\n";
         }
-        text += &format!("wrote {} frames to {}\n", frames.len(), dir.display());
+        text += &format!(
+            "wrote {} frame{} to {}\n",
+            frames.len(),
+            if frames.len() == 1 { "" } else { "s" },
+            dir.display()
+        );
     }
     for s in &skipped {
         text += &format!("skipped {}: {}\n", s.name, s.reason);

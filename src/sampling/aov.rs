@@ -410,6 +410,7 @@ pub fn render_aov(scene: &Scene, base: &RenderSettings, aov: Aov) -> AovImage {
 fn legend(aov: Aov, r: &Ranges, scene: &Scene) -> String {
     let head = format!("{}: {}", aov.name(), aov.describe());
     let how = match aov {
+        Aov::Depth if r.far <= 0.0 => "black: no ray hits anything".into(),
         Aov::Depth => format!(
             "brightness 0.2 + 0.8·(1/t − 1/far)/(1/near − 1/far), white: t <= {:.3} (near), dark grey: t >= {:.3} (far; 2nd and 98th percentile of the hits), black: no hit",
             r.near, r.far
