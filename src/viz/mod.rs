@@ -3,6 +3,7 @@
 //! drawn, in order, with rounded coordinates) for snapshot tests.
 
 pub mod canvas;
+pub mod intersect;
 pub mod labels;
 pub mod slice;
 pub mod style;
