@@ -744,6 +744,22 @@ pub fn figure(r: &Report) -> Canvas {
         labels.place_any(&mut c, &around_rings(o, 9.0), "P", 13.0, style::ink());
     }
 
+    // The hit's normal.
+    if let Some(h) = &r.hit {
+        let p = r.ray3.at(h.t);
+        let n = if h.normal.len() == 2 {
+            DVec3::new(h.normal[0], h.normal[1], 0.0)
+        } else {
+            DVec3::new(h.normal[0], h.normal[1], h.normal[2])
+        };
+        let a = v.px(p);
+        let b = v.px(p + n * (34.0 / v.scale));
+        if (b.0 - a.0).hypot(b.1 - a.1) > 6.0 && clip(a, a).is_some() {
+            c.arrow(a, b, style::normal(), 1.8);
+            labels.place(&mut c, &around(b, 7.0), "n", 12.0, style::normal());
+        }
+    }
+
     // Candidates: kept red, tossed grey (hollow).
     let kept_t = r.hit.as_ref().map(|h| h.t);
     for (i, cand) in r.candidates.iter().enumerate() {
@@ -775,22 +791,6 @@ pub fn figure(r: &Report) -> Canvas {
         };
         labels.place_any(&mut c, &around_rings(p, 9.0), &name, 12.0, color);
     }
-    // The hit's normal.
-    if let Some(h) = &r.hit {
-        let p = r.ray3.at(h.t);
-        let n = if h.normal.len() == 2 {
-            DVec3::new(h.normal[0], h.normal[1], 0.0)
-        } else {
-            DVec3::new(h.normal[0], h.normal[1], h.normal[2])
-        };
-        let a = v.px(p);
-        let b = v.px(p + n * (34.0 / v.scale));
-        if (b.0 - a.0).hypot(b.1 - a.1) > 6.0 && clip(a, a).is_some() {
-            c.arrow(a, b, style::normal(), 1.8);
-            labels.place(&mut c, &around(b, 7.0), "n", 12.0, style::normal());
-        }
-    }
-
     for (cands, text, size, color) in pending {
         labels.place_any(&mut c, &cands, &text, size, color);
     }
