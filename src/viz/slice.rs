@@ -29,8 +29,9 @@ pub enum SlicePlane {
     /// Through the camera ray and the camera's up vector (a side view of the pixel's ray).
     #[default]
     Camera,
-    /// Through the camera ray and the first reflection or refraction ray it spawned; falls
-    /// back to `Camera` when there is no bounce or it continues straight on.
+    /// Through the camera ray and the bounce it spawned that carries the most (the
+    /// refraction of glass, the reflection of a mirror); falls back to `Camera` when there is
+    /// no bounce or it continues straight on.
     Bounce,
 }
 
