@@ -3,6 +3,7 @@
 
 pub mod explain;
 pub mod explain_text;
+pub mod intersect;
 pub mod lessons;
 pub mod render;
 pub mod schema;
@@ -35,6 +36,8 @@ pub enum Command {
     Render(render::Args),
     /// Show every ray one pixel spawned, every intersection test and every lighting term.
     Explain(explain::Args),
+    /// Intersect one ray with one canonical shape and show the working (and a figure).
+    Intersect(intersect::Args),
     /// Check a scene file and report the first problem (exit 0 when it is valid).
     Validate(validate::Args),
     /// Print the JSON Schema of the native scene format.
@@ -52,6 +55,7 @@ pub fn run(cli: Cli, out: &mut dyn Write) -> Result<()> {
     match cli.command {
         Command::Render(a) => render::run(a, out),
         Command::Explain(a) => explain::run(a, out),
+        Command::Intersect(a) => intersect::run(a, out),
         Command::Validate(a) => validate::run(a, out),
         Command::Schema(a) => schema::run(a, out),
         Command::Lessons(a) => lessons::run(a, out),

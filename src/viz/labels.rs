@@ -45,6 +45,15 @@ impl Labels {
         self.taken.push(b);
     }
 
+    /// Marks the pixels along a segment as taken (so labels do not sit on lines).
+    pub fn block_segment(&mut self, a: (f32, f32), b: (f32, f32), r: f32) {
+        let n = ((b.0 - a.0).hypot(b.1 - a.1) / 6.0).ceil().min(2000.0) as usize;
+        for i in 0..=n {
+            let f = if n == 0 { 0.0 } else { i as f32 / n as f32 };
+            self.block_point((a.0 + (b.0 - a.0) * f, a.1 + (b.1 - a.1) * f), r);
+        }
+    }
+
     /// Marks a small square around a point as taken.
     pub fn block_point(&mut self, p: (f32, f32), r: f32) {
         self.taken.push([p.0 - r, p.1 - r, p.0 + r, p.1 + r]);
@@ -129,6 +138,14 @@ pub fn around(p: (f32, f32), gap: f32) -> Vec<((f32, f32), Anchor)> {
         ((p.0 + gap, p.1 + gap + 2.0), Anchor::Left),
         ((p.0 - gap, p.1 + gap + 2.0), Anchor::Right),
     ]
+}
+
+/// [`around`] at three distances: near first, then farther out.
+pub fn around_rings(p: (f32, f32), gap: f32) -> Vec<((f32, f32), Anchor)> {
+    let mut v = around(p, gap);
+    v.extend(around(p, gap * 2.0));
+    v.extend(around(p, gap * 3.2));
+    v
 }
 
 /// Candidate positions beside a segment a→b: at its middle, then at a third and two thirds,

@@ -4,6 +4,7 @@
 
 pub mod canvas;
 pub mod forward;
+pub mod intersect;
 pub mod labels;
 pub mod slice;
 pub mod steps;

@@ -29,8 +29,9 @@ pub enum SlicePlane {
     /// Through the camera ray and the camera's up vector (a side view of the pixel's ray).
     #[default]
     Camera,
-    /// Through the camera ray and the first reflection or refraction ray it spawned; falls
-    /// back to `Camera` when there is no bounce or it continues straight on.
+    /// Through the camera ray and the bounce it spawned that carries the most (the
+    /// refraction of glass, the reflection of a mirror); falls back to `Camera` when there is
+    /// no bounce or it continues straight on.
     Bounce,
 }
 
@@ -629,8 +630,12 @@ pub fn draw(scene: &Scene, tree: &RayNode, opts: &SliceOptions) -> Result<Canvas
                     color,
                 );
             } else if e.end.is_none() && e.light.is_none() && n.kind != RayKind::Shadow {
-                let near_end = (cb.0 + (ca.0 - cb.0) * 0.08, cb.1 + (ca.1 - cb.1) * 0.08);
-                let mut cands = beside(near_end, cb, 9.0);
+                // Beside the line a little before its end (the arrow head is at the edge).
+                let (dx, dy) = (cb.0 - ca.0, cb.1 - ca.1);
+                let l = dx.hypot(dy).max(1.0);
+                let (ux, uy) = (dx / l, dy / l);
+                let back = |k: f32| (cb.0 - ux * k.min(l), cb.1 - uy * k.min(l));
+                let mut cands = beside(back(34.0), back(18.0), 9.0);
                 cands.truncate(2);
                 cands.extend(around(cb, 12.0));
                 labels.place(&mut canvas, &cands, "miss", 12.0, color);
