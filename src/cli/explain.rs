@@ -28,6 +28,13 @@ pub struct Args {
     /// text (default), json or yaml.
     #[arg(long, default_value = "text")]
     pub format: String,
+    /// Also draw the pixel's ray tree in a 2D slice of the scene to this PNG.
+    #[arg(long, value_name = "OUT.png")]
+    pub diagram: Option<PathBuf>,
+    /// The slice of --diagram: camera (the camera ray and the camera's up vector) or bounce
+    /// (the camera ray and its first reflection or refraction).
+    #[arg(long, value_name = "camera|bounce", default_value = "camera")]
+    pub diagram_plane: String,
     #[command(flatten)]
     pub render: RenderArgs,
 }
@@ -155,6 +162,18 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
             ),
         ));
     }
+    let plane = crate::viz::slice::SlicePlane::parse(&args.diagram_plane).ok_or_else(|| {
+        Error::arg(
+            "--diagram-plane",
+            format!(
+                "unknown plane \"{}\" (expected camera or bounce)",
+                args.diagram_plane
+            ),
+        )
+    })?;
+    if let Some(d) = &args.diagram {
+        crate::output::check_writable(d, "--diagram")?;
+    }
     let scene = args.render.load(&args.scene)?;
     let (x, y) = parse_pixel(&args.pixel, scene.camera.width, scene.camera.height)?;
     let spp = pixel_samples(
@@ -179,6 +198,17 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
     let mut e = explain(&scene, x, y);
     if let Some(k) = args.sample {
         e.samples.retain(|s| s.pixel == [x, y] && s.index == k);
+    }
+    if let Some(path) = &args.diagram {
+        // The first sample of the pixel itself (the one --sample chose, if given).
+        if let Some(s) = e.samples.iter().find(|s| s.pixel == [x, y]) {
+            let opts = crate::viz::slice::SliceOptions {
+                plane,
+                caption: Some(format!("pixel ({x}, {y}), sample {}", s.index)),
+                ..Default::default()
+            };
+            crate::viz::slice::draw(&scene, &s.ray, &opts)?.save(path)?;
+        }
     }
     let text = match args.format.as_str() {
         "json" => serde_json::to_string_pretty(&e).expect("serialisable") + "\n",

@@ -4,9 +4,11 @@
 pub mod convert;
 pub mod explain;
 pub mod explain_text;
+pub mod intersect;
 pub mod lessons;
 pub mod render;
 pub mod schema;
+pub mod steps;
 pub mod validate;
 
 use crate::accel::AccelKind;
@@ -35,6 +37,8 @@ pub enum Command {
     Render(render::Args),
     /// Show every ray one pixel spawned, every intersection test and every lighting term.
     Explain(explain::Args),
+    /// Intersect one ray with one canonical shape and show the working (and a figure).
+    Intersect(intersect::Args),
     /// Check a scene file and report the first problem (exit 0 when it is valid).
     Validate(validate::Args),
     /// Print the JSON Schema of the native scene format.
@@ -43,6 +47,9 @@ pub enum Command {
     Convert(convert::Args),
     /// Build or check the book's figures from lessons/*.json.
     Lessons(lessons::Args),
+    /// The image built up step by step: visibility, normals, each lighting term, shadows,
+    /// reflection depth by depth, refraction (frames, index.json, optional GIF).
+    Steps(steps::Args),
 }
 
 /// Runs a parsed command line, writing what a command prints to `out` (stdout for the
@@ -51,10 +58,12 @@ pub fn run(cli: Cli, out: &mut dyn Write) -> Result<()> {
     match cli.command {
         Command::Render(a) => render::run(a, out),
         Command::Explain(a) => explain::run(a, out),
+        Command::Intersect(a) => intersect::run(a, out),
         Command::Validate(a) => validate::run(a, out),
         Command::Schema(a) => schema::run(a, out),
         Command::Convert(a) => convert::run(a, out),
         Command::Lessons(a) => lessons::run(a, out),
+        Command::Steps(a) => steps::run(a, out),
     }
 }
 

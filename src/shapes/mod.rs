@@ -22,7 +22,7 @@ pub use cuboid::Cuboid;
 pub use cylinder::Cylinder;
 pub use mesh::Mesh;
 pub use plane::Plane;
-pub use quadratic::{Quadratic, Roots};
+pub use quadratic::{Quadratic, Roots, TANGENT_TOLERANCE};
 pub use sphere::Sphere;
 pub use triangle::{cramer, cramer_hit, Barycentric, Triangle};
 pub use working::{Candidate, Working};

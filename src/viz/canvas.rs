@@ -75,6 +75,14 @@ pub enum Prim {
         size: [u32; 2],
         scale: u32,
     },
+    /// A colour blended over a set of pixels (object sections sampled by rays): kept in the
+    /// display list by what it covers, `pixels` counted and `bounds` as [x0, y0, x1, y1].
+    Mask {
+        what: String,
+        color: String,
+        pixels: u32,
+        bounds: [u32; 4],
+    },
 }
 
 fn hex(c: Color) -> String {
@@ -390,6 +398,48 @@ impl Canvas {
             size: [img.width(), img.height()],
             scale,
         });
+    }
+
+    /// Blends `color` over every pixel where `mask` (row-major, the canvas's size) is set.
+    /// `what` names the layer in the display list. An empty mask draws and lists nothing.
+    pub fn mask(&mut self, what: &str, mask: &[bool], color: Color) {
+        let w = self.pixmap.width();
+        let c = color.to_color_u8();
+        let a = c.alpha() as u32;
+        let (mut n, mut b) = (0u32, [u32::MAX, u32::MAX, 0, 0]);
+        let data = self.pixmap.data_mut();
+        for (i, _) in mask.iter().enumerate().filter(|(_, m)| **m) {
+            let (x, y) = (i as u32 % w, i as u32 / w);
+            if 4 * i + 3 >= data.len() {
+                break;
+            }
+            n += 1;
+            b = [b[0].min(x), b[1].min(y), b[2].max(x), b[3].max(y)];
+            let inv = 255 - a;
+            for (k, s) in [c.red(), c.green(), c.blue()].into_iter().enumerate() {
+                let d = &mut data[4 * i + k];
+                *d = ((s as u32 * a + *d as u32 * inv + 127) / 255) as u8;
+            }
+            let d = &mut data[4 * i + 3];
+            *d = ((255 * a + *d as u32 * inv + 127) / 255) as u8;
+        }
+        if n > 0 {
+            self.display.push(Prim::Mask {
+                what: what.to_string(),
+                color: hex(color),
+                pixels: n,
+                bounds: b,
+            });
+        }
+    }
+
+    /// Encodes the figure as PNG bytes (the same bytes [`Canvas::save`] writes).
+    pub fn png_bytes(&self) -> Result<Vec<u8>> {
+        let mut buf = std::io::Cursor::new(Vec::new());
+        self.to_rgb()
+            .write_to(&mut buf, image::ImageFormat::Png)
+            .map_err(|e| crate::error::Error::Other(format!("cannot encode PNG: {e}")))?;
+        Ok(buf.into_inner())
     }
 
     /// The canvas as an opaque RGB image.

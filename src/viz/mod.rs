@@ -3,6 +3,11 @@
 //! drawn, in order, with rounded coordinates) for snapshot tests.
 
 pub mod canvas;
+pub mod forward;
+pub mod intersect;
+pub mod labels;
+pub mod slice;
+pub mod steps;
 pub mod style;
 
 pub use canvas::{Anchor, Canvas, Prim};

@@ -38,8 +38,9 @@ pub fn shape_fill() -> Color {
 pub fn shape_stroke() -> Color {
     rgb(40, 90, 160)
 }
+/// Surface normals (not green: green is the reflection ray).
 pub fn normal() -> Color {
-    rgb(44, 160, 44)
+    rgb(140, 86, 75)
 }
 
 /// The colour of a ray of each kind.

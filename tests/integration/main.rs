@@ -4,6 +4,8 @@ mod book;
 mod common;
 mod cs1230;
 mod explain;
+mod intersect;
 mod render;
 mod shading;
 mod shapes;
+mod steps;

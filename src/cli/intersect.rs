@@ -1,0 +1,647 @@
+//! `rtlab intersect`: one ray against one canonical shape, with all the working shown.
+//!
+//! The numbers come from the shape's own intersection routine (`src/shapes/`), the one the
+//! tracer runs, watched by a [`Working`] observer; nothing here solves anything itself.
+//! The 2D `circle` is the sphere routine in the plane z = 0.
+//!
+//! Output format (DESIGN §3, version 1), `--format json`:
+//! `{"shape", "ray": {"origin", "direction"}, "quadratic": null | {"a", "b", "c",
+//! "discriminant", "roots", "rounded_to_zero"}, "candidates": [{"t", "point", "surface",
+//! "on_shape", "in_front", "note"}], "barycentric": {"alpha", "beta", "gamma", "determinant",
+//! "t"} (triangles only), "hit": null | {"t", "point", "normal", "surface"}}`.
+//! Points of the circle have two coordinates. Full f64 precision.
+
+use super::parse_list;
+use crate::error::{Error, Result};
+use crate::math::Ray;
+use crate::shapes::working::short;
+use crate::shapes::{
+    Cone, Cuboid, Cylinder, Plane, Roots, Shape, Sphere, Triangle, Working, TANGENT_TOLERANCE,
+};
+use glam::DVec3;
+use serde::Serialize;
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// circle (2D), sphere, plane, cylinder, cone, box or triangle.
+    pub shape: String,
+    /// Ray origin P (X,Y for the circle, X,Y,Z otherwise).
+    #[arg(long, allow_hyphen_values = true)]
+    pub origin: String,
+    /// Ray direction d, used as given (not normalised): points are P + t·d.
+    #[arg(long, allow_hyphen_values = true)]
+    pub dir: String,
+    /// circle, sphere: centre [0,0(,0)].
+    #[arg(long, allow_hyphen_values = true)]
+    pub center: Option<String>,
+    /// circle, sphere, cylinder: radius [1].
+    #[arg(long, allow_hyphen_values = true)]
+    pub radius: Option<String>,
+    /// plane: a point on it [0,0,0].
+    #[arg(long, allow_hyphen_values = true)]
+    pub point: Option<String>,
+    /// plane: its normal [0,1,0] (normalised).
+    #[arg(long, allow_hyphen_values = true)]
+    pub normal: Option<String>,
+    /// cylinder, cone: lower end [-1].
+    #[arg(long, allow_hyphen_values = true)]
+    pub y_min: Option<String>,
+    /// cylinder, cone: upper end [1].
+    #[arg(long, allow_hyphen_values = true)]
+    pub y_max: Option<String>,
+    /// cone: k in x² + z² = (k·y)² [1].
+    #[arg(long, allow_hyphen_values = true)]
+    pub slope: Option<String>,
+    /// cylinder, cone: no caps.
+    #[arg(long)]
+    pub open: bool,
+    /// box: lower corner [-1,-1,-1].
+    #[arg(long, allow_hyphen_values = true)]
+    pub min: Option<String>,
+    /// box: upper corner [1,1,1].
+    #[arg(long, allow_hyphen_values = true)]
+    pub max: Option<String>,
+    /// triangle: corner a.
+    #[arg(long, allow_hyphen_values = true)]
+    pub a: Option<String>,
+    /// triangle: corner b.
+    #[arg(long, allow_hyphen_values = true)]
+    pub b: Option<String>,
+    /// triangle: corner c.
+    #[arg(long, allow_hyphen_values = true)]
+    pub c: Option<String>,
+    /// text (default) or json.
+    #[arg(long, default_value = "text")]
+    pub format: String,
+    /// Also draw the figure to this PNG.
+    #[arg(short = 'o', long = "output", value_name = "FIG.png")]
+    pub output: Option<PathBuf>,
+}
+
+pub const SHAPES: [&str; 7] = [
+    "circle", "sphere", "plane", "cylinder", "cone", "box", "triangle",
+];
+
+#[derive(Debug, Clone, Serialize)]
+pub struct RayJson {
+    pub origin: Vec<f64>,
+    pub direction: Vec<f64>,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct QuadraticJson {
+    pub a: f64,
+    pub b: f64,
+    pub c: f64,
+    pub discriminant: f64,
+    pub roots: Roots,
+    /// D came out tiny but nonzero and was taken as 0 (a tangent).
+    pub rounded_to_zero: bool,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct CandidateJson {
+    pub t: f64,
+    pub point: Vec<f64>,
+    pub surface: &'static str,
+    pub on_shape: bool,
+    pub in_front: bool,
+    pub note: String,
+}
+
+/// Cramer's rule for a triangle. The fields are `null` when the determinant is 0 (the ray is
+/// parallel to the triangle's plane, or the triangle is degenerate).
+#[derive(Debug, Clone, Serialize)]
+pub struct BarycentricJson {
+    pub alpha: Option<f64>,
+    pub beta: Option<f64>,
+    pub gamma: Option<f64>,
+    pub determinant: f64,
+    pub t: Option<f64>,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct HitJson {
+    pub t: f64,
+    pub point: Vec<f64>,
+    pub normal: Vec<f64>,
+    pub surface: &'static str,
+}
+
+/// Everything `intersect` found: the JSON document, plus what the text and figure need.
+#[derive(Debug, Clone, Serialize)]
+pub struct Report {
+    pub shape: &'static str,
+    pub ray: RayJson,
+    pub quadratic: Option<QuadraticJson>,
+    pub candidates: Vec<CandidateJson>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub barycentric: Option<BarycentricJson>,
+    pub hit: Option<HitJson>,
+    /// The shape intersected (the circle as its sphere in z = 0).
+    #[serde(skip)]
+    pub solid: Shape,
+    /// The 3D ray given to the routine.
+    #[serde(skip)]
+    pub ray3: Ray,
+}
+
+impl Report {
+    pub fn is_2d(&self) -> bool {
+        self.shape == "circle"
+    }
+}
+
+fn num(arg: &str, s: &Option<String>, default: f64) -> Result<f64> {
+    match s {
+        None => Ok(default),
+        Some(s) => Ok(parse_list(arg, s, 1)?[0]),
+    }
+}
+
+fn vec3(arg: &str, s: &Option<String>, default: DVec3) -> Result<DVec3> {
+    match s {
+        None => Ok(default),
+        Some(s) => super::parse_vec3(arg, s),
+    }
+}
+
+/// Rejects options that do not belong to `shape`, so a typo is not silently ignored.
+fn only(args: &Args, allowed: &[&str]) -> Result<()> {
+    let given = [
+        ("--center", args.center.is_some()),
+        ("--radius", args.radius.is_some()),
+        ("--point", args.point.is_some()),
+        ("--normal", args.normal.is_some()),
+        ("--y-min", args.y_min.is_some()),
+        ("--y-max", args.y_max.is_some()),
+        ("--slope", args.slope.is_some()),
+        ("--open", args.open),
+        ("--min", args.min.is_some()),
+        ("--max", args.max.is_some()),
+        ("--a", args.a.is_some()),
+        ("--b", args.b.is_some()),
+        ("--c", args.c.is_some()),
+    ];
+    for (name, set) in given {
+        if set && !allowed.contains(&name) {
+            return Err(Error::arg(
+                name,
+                format!(
+                    "{} has no {name} (its parameters: {})",
+                    args.shape,
+                    if allowed.is_empty() {
+                        "none".to_string()
+                    } else {
+                        allowed.join(" ")
+                    }
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Parses the arguments into a shape and a ray (both 3D; the circle lives in z = 0).
+pub fn shape_and_ray(args: &Args) -> Result<(&'static str, Shape, Ray)> {
+    let name = SHAPES
+        .iter()
+        .find(|s| **s == args.shape)
+        .copied()
+        .ok_or_else(|| {
+            Error::arg(
+                "SHAPE",
+                format!(
+                    "unknown shape \"{}\" (expected one of: {})",
+                    args.shape,
+                    SHAPES.join(", ")
+                ),
+            )
+        })?;
+    let two_d = name == "circle";
+    let n = if two_d { 2 } else { 3 };
+    let v = |arg: &str, s: &str| -> Result<DVec3> {
+        let l = parse_list(arg, s, n)?;
+        Ok(DVec3::new(l[0], l[1], if two_d { 0.0 } else { l[2] }))
+    };
+    let origin = v("--origin", &args.origin)?;
+    let dir = v("--dir", &args.dir)?;
+    if dir == DVec3::ZERO {
+        return Err(Error::arg("--dir", "the direction must not be zero"));
+    }
+    let positive = |arg: &str, x: f64| -> Result<f64> {
+        if x > 0.0 {
+            Ok(x)
+        } else {
+            Err(Error::arg(arg, format!("must be positive, found {x}")))
+        }
+    };
+    let range = |lo: f64, hi: f64| -> Result<()> {
+        if lo < hi {
+            Ok(())
+        } else {
+            Err(Error::arg(
+                "--y-min/--y-max",
+                format!("--y-min ({lo}) must be below --y-max ({hi})"),
+            ))
+        }
+    };
+    let shape = match name {
+        "circle" | "sphere" => {
+            only(args, &["--center", "--radius"])?;
+            let center = match &args.center {
+                None => DVec3::ZERO,
+                Some(s) => v("--center", s)?,
+            };
+            Shape::Sphere(Sphere {
+                center,
+                radius: positive("--radius", num("--radius", &args.radius, 1.0)?)?,
+            })
+        }
+        "plane" => {
+            only(args, &["--point", "--normal"])?;
+            let normal = vec3("--normal", &args.normal, DVec3::Y)?
+                .try_normalize()
+                .ok_or_else(|| Error::arg("--normal", "the normal must not be zero"))?;
+            Shape::Plane(Plane {
+                point: vec3("--point", &args.point, DVec3::ZERO)?,
+                normal,
+            })
+        }
+        "cylinder" => {
+            only(args, &["--radius", "--y-min", "--y-max", "--open"])?;
+            let (lo, hi) = (
+                num("--y-min", &args.y_min, -1.0)?,
+                num("--y-max", &args.y_max, 1.0)?,
+            );
+            range(lo, hi)?;
+            Shape::Cylinder(Cylinder {
+                radius: positive("--radius", num("--radius", &args.radius, 1.0)?)?,
+                y_min: lo,
+                y_max: hi,
+                capped: !args.open,
+            })
+        }
+        "cone" => {
+            only(args, &["--slope", "--y-min", "--y-max", "--open"])?;
+            let (lo, hi) = (
+                num("--y-min", &args.y_min, -1.0)?,
+                num("--y-max", &args.y_max, 1.0)?,
+            );
+            range(lo, hi)?;
+            Shape::Cone(Cone {
+                slope: positive("--slope", num("--slope", &args.slope, 1.0)?)?,
+                y_min: lo,
+                y_max: hi,
+                capped: !args.open,
+            })
+        }
+        "box" => {
+            only(args, &["--min", "--max"])?;
+            let (min, max) = (
+                vec3("--min", &args.min, DVec3::splat(-1.0))?,
+                vec3("--max", &args.max, DVec3::ONE)?,
+            );
+            if !min.cmplt(max).all() {
+                return Err(Error::arg(
+                    "--min/--max",
+                    "every coordinate of --min must be below that of --max",
+                ));
+            }
+            Shape::Box(Cuboid { min, max })
+        }
+        _ => {
+            only(args, &["--a", "--b", "--c"])?;
+            let corner = |arg: &str, s: &Option<String>| -> Result<DVec3> {
+                match s {
+                    Some(s) => super::parse_vec3(arg, s),
+                    None => Err(Error::arg(
+                        arg,
+                        "a triangle needs its three corners: --a X,Y,Z --b X,Y,Z --c X,Y,Z",
+                    )),
+                }
+            };
+            Shape::Triangle(Triangle::new([
+                corner("--a", &args.a)?,
+                corner("--b", &args.b)?,
+                corner("--c", &args.c)?,
+            ]))
+        }
+    };
+    Ok((name, shape, Ray::new(origin, dir)))
+}
+
+/// Runs the shape's routine with a [`Working`] observer and gathers the report.
+pub fn report(name: &'static str, shape: Shape, ray: Ray) -> Report {
+    let mut w = Working::default();
+    let hit = shape.intersect(&ray, 0.0, f64::INFINITY, &mut w);
+    w.conclude(hit.map(|h| h.t), f64::INFINITY);
+    let two_d = name == "circle";
+    let p = |v: DVec3| -> Vec<f64> {
+        if two_d {
+            vec![v.x, v.y]
+        } else {
+            vec![v.x, v.y, v.z]
+        }
+    };
+    let quadratic = w.quadratics.first().map(|(_, q)| QuadraticJson {
+        a: q.a,
+        b: q.b,
+        c: q.c,
+        discriminant: q.discriminant,
+        roots: q.roots,
+        rounded_to_zero: q.rounded_to_zero,
+    });
+    let barycentric = matches!(shape, Shape::Triangle(_)).then(|| match w.barycentric {
+        Some(b) => BarycentricJson {
+            alpha: Some(b.alpha),
+            beta: Some(b.beta),
+            gamma: Some(b.gamma),
+            determinant: b.determinant,
+            t: Some(b.t),
+        },
+        None => BarycentricJson {
+            alpha: None,
+            beta: None,
+            gamma: None,
+            determinant: 0.0,
+            t: None,
+        },
+    });
+    let surface_name = |s: &'static str| if two_d && s == "sphere" { "circle" } else { s };
+    Report {
+        shape: name,
+        ray: RayJson {
+            origin: p(ray.origin),
+            direction: p(ray.dir),
+        },
+        quadratic,
+        candidates: w
+            .candidates
+            .iter()
+            .map(|c| CandidateJson {
+                t: c.t,
+                point: p(c.point),
+                surface: surface_name(c.surface),
+                on_shape: c.on_shape,
+                in_front: c.in_front,
+                note: c.note.replace("on this shape", &format!("on this {name}")),
+            })
+            .collect(),
+        barycentric,
+        hit: hit.map(|h| HitJson {
+            t: h.t,
+            point: p(h.point),
+            normal: p(h.normal),
+            surface: surface_name(h.surface),
+        }),
+        solid: shape,
+        ray3: ray,
+    }
+}
+
+/// A number that may be tiny: scientific notation below 1e-4, else the short form.
+pub fn tiny(x: f64) -> String {
+    if x != 0.0 && x.abs() < 1e-4 {
+        format!("{x:.1e}")
+    } else {
+        short(x)
+    }
+}
+
+fn pv(v: &[f64]) -> String {
+    let parts: Vec<String> = v.iter().map(|x| short(*x)).collect();
+    format!("({})", parts.join(", "))
+}
+
+/// A coefficient as the equation shows it: "+ 6" or "− 6".
+fn signed(x: f64) -> String {
+    if x < 0.0 {
+        format!("− {}", short(-x))
+    } else {
+        format!("+ {}", short(x))
+    }
+}
+
+/// The substituted equation of each shape, in words a student can check by hand.
+fn equation(r: &Report) -> &'static str {
+    match r.shape {
+        "circle" => "(x − cx)² + (y − cy)² − r² = 0 becomes (d·d) t² + 2 d·(P − C) t + |P − C|² − r² = 0",
+        "sphere" => "|Q − C|² − r² = 0 becomes (d·d) t² + 2 d·(P − C) t + |P − C|² − r² = 0",
+        "cylinder" => "body x² + z² − r² = 0 becomes (dx² + dz²) t² + 2(Px·dx + Pz·dz) t + Px² + Pz² − r² = 0; caps: y = y_max and y = y_min give t = (y_cap − Py)/dy",
+        "cone" => "body x² + z² − k²y² = 0 becomes (dx² + dz² − k²dy²) t² + 2(Px·dx + Pz·dz − k²Py·dy) t + Px² + Pz² − k²Py² = 0; caps: t = (y_cap − Py)/dy",
+        "plane" => "n·(Q − Q0) = 0 becomes t = n·(Q0 − P) / (n·d)",
+        "box" => "each face plane x = min.x, x = max.x, y = ..., z = ... gives t = (plane − P)/d on that axis; a root counts if the point is inside the face",
+        _ => "P + t·d = a + β(b − a) + γ(c − a), solved for (β, γ, t) by Cramer's rule; α = 1 − β − γ",
+    }
+}
+
+/// The readable form.
+pub fn text(r: &Report) -> String {
+    let mut o = String::new();
+    let _ = writeln!(o, "{}: {}", r.shape, describe(&r.solid, r.is_2d()));
+    let _ = writeln!(
+        o,
+        "ray: P = {}, d = {}",
+        pv(&r.ray.origin),
+        pv(&r.ray.direction)
+    );
+    let len = r.ray3.dir.length();
+    if (len - 1.0).abs() > 1e-9 {
+        let _ = writeln!(
+            o,
+            "  note: |d| = {} is not 1, so t is not a distance (distance = t·|d|); d is used as given",
+            short(len)
+        );
+    }
+    let _ = writeln!(o, "equation: {}", equation(r));
+    if let Some(q) = &r.quadratic {
+        let _ = writeln!(
+            o,
+            "  a = {}, b = {}, c = {}:  {}·t² {}·t {} = 0",
+            short(q.a),
+            short(q.b),
+            short(q.c),
+            short(q.a),
+            signed(q.b),
+            signed(q.c)
+        );
+        if q.rounded_to_zero {
+            let _ = writeln!(
+                o,
+                "discriminant D = b² − 4ac = 0  (floating point computed {}; see below)",
+                tiny(q.discriminant)
+            );
+        } else {
+            let _ = writeln!(o, "discriminant D = b² − 4ac = {}", tiny(q.discriminant));
+        }
+        let verdict = match q.roots {
+            Roots::Two => "D > 0: two roots, the ray enters and leaves",
+            Roots::Tangent => "D = 0: one root t = −b/2a, the ray grazes the surface (tangent)",
+            Roots::One => "a = 0: the equation is linear, one root t = −c/b",
+            Roots::None => "D < 0: no real root, the ray misses this surface",
+        };
+        let _ = writeln!(o, "  verdict: {verdict}");
+        if q.rounded_to_zero {
+            let scale = (q.b * q.b).max((4.0 * q.a * q.c).abs());
+            let _ = writeln!(
+                o,
+                "  why D is taken as 0: in exact arithmetic D = 0 here, but b² = {} and 4ac = {} are each \
+                 rounded to the nearest double (about 1e-16 of their size), so their difference comes out \
+                 as {} instead of 0. rtlab treats |D| ≤ {:e} · max(b², |4ac|) = {:.1e} as zero \
+                 (TANGENT_TOLERANCE in src/shapes/quadratic.rs): a tangent, not a miss.",
+                short(q.b * q.b),
+                short(4.0 * q.a * q.c),
+                tiny(q.discriminant),
+                TANGENT_TOLERANCE,
+                TANGENT_TOLERANCE * scale
+            );
+        }
+    }
+    if let Some(b) = &r.barycentric {
+        match (b.alpha, b.beta, b.gamma, b.t) {
+            (Some(al), Some(be), Some(ga), Some(t)) => {
+                let d = b.determinant;
+                let _ = writeln!(
+                    o,
+                    "Cramer's rule: columns e1 = b − a, e2 = c − a, −d; right-hand side s = P − a"
+                );
+                let _ = writeln!(o, "  det[e1 e2 −d] = {}", short(d));
+                let _ = writeln!(
+                    o,
+                    "  det[s e2 −d] = {}  → beta  = {} / {} = {}",
+                    short(be * d),
+                    short(be * d),
+                    short(d),
+                    short(be)
+                );
+                let _ = writeln!(
+                    o,
+                    "  det[e1 s −d] = {}  → gamma = {} / {} = {}",
+                    short(ga * d),
+                    short(ga * d),
+                    short(d),
+                    short(ga)
+                );
+                let _ = writeln!(
+                    o,
+                    "  det[e1 e2 s] = {}  → t     = {} / {} = {}",
+                    short(t * d),
+                    short(t * d),
+                    short(d),
+                    short(t)
+                );
+                let _ = writeln!(o, "  alpha = 1 − beta − gamma = {}", short(al));
+                let inside = be >= 0.0 && ga >= 0.0 && be + ga <= 1.0;
+                let _ = writeln!(
+                    o,
+                    "  inside iff beta ≥ 0, gamma ≥ 0, beta + gamma ≤ 1: {}",
+                    if inside {
+                        "yes"
+                    } else {
+                        "no, the ray meets the plane outside the triangle"
+                    }
+                );
+            }
+            _ => {
+                let _ = writeln!(
+                    o,
+                    "Cramer's rule: det[e1 e2 −d] = 0, no unique solution: the ray is parallel to the \
+                     triangle's plane, or the triangle is degenerate (its corners are on one line)"
+                );
+            }
+        }
+    }
+    if r.candidates.is_empty() {
+        let _ = writeln!(o, "candidates: none");
+    } else {
+        let _ = writeln!(o, "candidates (every root, sorted by t):");
+        for (i, c) in r.candidates.iter().enumerate() {
+            let name = if r.candidates.len() == 1 {
+                "t".to_string()
+            } else {
+                format!("t{}", i + 1)
+            };
+            let _ = writeln!(
+                o,
+                "  {name:<3} = {:<9} {:<10} point {}: {}",
+                short(c.t),
+                c.surface,
+                pv(&c.point),
+                c.note
+            );
+        }
+    }
+    match &r.hit {
+        Some(h) => {
+            let _ = writeln!(
+                o,
+                "hit: t = {} on {}, point {}, normal {}",
+                short(h.t),
+                h.surface,
+                pv(&h.point),
+                pv(&h.normal)
+            );
+        }
+        None => {
+            let _ = writeln!(o, "hit: none, the ray misses");
+        }
+    }
+    o
+}
+
+/// The shape's parameters in one line.
+pub fn describe(shape: &Shape, two_d: bool) -> String {
+    let v3 = |v: DVec3| pv(&[v.x, v.y, v.z]);
+    match shape {
+        Shape::Sphere(s) if two_d => format!(
+            "centre {}, radius {}",
+            pv(&[s.center.x, s.center.y]),
+            short(s.radius)
+        ),
+        Shape::Sphere(s) => format!("centre {}, radius {}", v3(s.center), short(s.radius)),
+        Shape::Plane(p) => format!("through {}, normal {}", v3(p.point), v3(p.normal)),
+        Shape::Cylinder(c) => format!(
+            "x² + z² = {}², {} ≤ y ≤ {}, {}",
+            short(c.radius),
+            short(c.y_min),
+            short(c.y_max),
+            if c.capped { "capped" } else { "open" }
+        ),
+        Shape::Cone(c) => format!(
+            "x² + z² = ({}·y)², {} ≤ y ≤ {}, {}",
+            short(c.slope),
+            short(c.y_min),
+            short(c.y_max),
+            if c.capped { "capped" } else { "open" }
+        ),
+        Shape::Box(b) => format!("from {} to {}", v3(b.min), v3(b.max)),
+        Shape::Triangle(t) => format!("a = {}, b = {}, c = {}", v3(t.v[0]), v3(t.v[1]), v3(t.v[2])),
+        Shape::Mesh(_) => "mesh".into(),
+    }
+}
+
+pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
+    if args.format != "text" && args.format != "json" {
+        return Err(Error::arg(
+            "--format",
+            format!("unknown format \"{}\" (expected text or json)", args.format),
+        ));
+    }
+    if let Some(o) = &args.output {
+        crate::output::check_writable(o, "-o")?;
+    }
+    let (name, shape, ray) = shape_and_ray(&args)?;
+    let r = report(name, shape, ray);
+    if let Some(o) = &args.output {
+        crate::viz::intersect::figure(&r).save(o)?;
+    }
+    let s = if args.format == "json" {
+        serde_json::to_string_pretty(&r).expect("serialisable") + "\n"
+    } else {
+        text(&r)
+    };
+    super::emit(out, &s)
+}
