@@ -5,6 +5,7 @@ pub mod cs1230;
 pub mod json;
 mod native;
 pub mod obj;
+mod solids;
 
 use crate::accel::{Accel, AccelKind};
 use crate::camera::Camera;

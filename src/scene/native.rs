@@ -107,6 +107,13 @@ const OBJECT: &[&str] = &[
     "normals",
     "uvs",
     "file",
+    "op",
+    "children",
+    "left",
+    "right",
+    "threshold",
+    "falloff",
+    "components",
 ];
 /// Which object keys belong to which shape (beyond name, shape, material, transform).
 const SHAPE_KEYS: &[(&str, &[&str])] = &[
@@ -117,6 +124,8 @@ const SHAPE_KEYS: &[(&str, &[&str])] = &[
     ("cone", &["slope", "y_min", "y_max", "capped"]),
     ("triangle", &["vertices", "normals", "uvs"]),
     ("mesh", &["file"]),
+    ("csg", &["op", "children", "left", "right"]),
+    ("blob", &["threshold", "falloff", "components"]),
 ];
 
 /// Largest recursion depth accepted (each level can double the rays).
@@ -701,6 +710,10 @@ fn object(
             }
             Shape::Triangle(t)
         }
+        "csg" => super::solids::csg(&o, &mut |n, i| {
+            object(&n, i, base, by_name, names, materials)
+        })?,
+        "blob" => super::solids::blob(&o)?,
         _ => {
             let file = o.req("file", |n| n.str().map(String::from))?;
             Shape::Mesh(Arc::new(super::obj::load(&resolve(base, &file))?))
