@@ -333,11 +333,12 @@ impl<O: Observer> Search<'_, O> {
                 a,
                 b,
             });
-            let done = f == 0.0
-                || (next - t).abs() <= 1e-14 * (1.0 + t.abs())
-                || b - a <= 1e-15 * (1.0 + t.abs());
+            if f == 0.0 {
+                break; // t is the root exactly
+            }
+            let close = (next - t).abs() <= 1e-14 * (1.0 + t.abs());
             t = next;
-            if done {
+            if close || b - a <= 1e-15 * (1.0 + t.abs()) {
                 break;
             }
         }

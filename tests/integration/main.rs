@@ -2,6 +2,7 @@
 
 mod book;
 mod common;
+mod csg;
 mod explain;
 mod render;
 mod shading;
