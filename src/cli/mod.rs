@@ -3,6 +3,7 @@
 
 pub mod explain;
 pub mod explain_text;
+pub mod intersect_solids;
 pub mod lessons;
 pub mod render;
 pub mod schema;

@@ -17,6 +17,7 @@ use glam::DVec3;
 use std::path::{Path, PathBuf};
 
 pub use native::NATIVE_KEYS;
+pub use solids::load_solid;
 
 /// The deepest recursion accepted from a scene or `--max-depth`.
 pub fn native_max_depth() -> u32 {

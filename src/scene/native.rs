@@ -729,6 +729,18 @@ fn object(
     })
 }
 
+/// Reads one object written as in a scene's `"objects"`, alone (no named materials).
+pub(super) fn standalone_object(path: &Path, value: &Value) -> Result<Object> {
+    let node = Node {
+        v: value,
+        path: "",
+        file: path,
+    };
+    let base = path.parent().unwrap_or(Path::new("."));
+    let mut materials = vec![Material::default()];
+    object(&node, 0, base, &HashMap::new(), &[], &mut materials)
+}
+
 fn points(n: &Node, count: usize) -> Result<Vec<DVec3>> {
     let a = n.array()?;
     if a.len() != count {

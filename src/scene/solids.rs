@@ -119,3 +119,40 @@ pub fn blob(o: &Obj) -> Result<Shape> {
         components,
     })))
 }
+
+/// Reads a standalone solid from a small JSON file written like a scene object (`"shape"`
+/// may be left out: `kind` supplies it). For `intersect csg|blob --spec FILE`.
+pub fn load_solid(path: &std::path::Path, kind: &str) -> Result<Object> {
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        Error::io(
+            path,
+            format!("cannot read the spec: {}", super::io_reason(&e)),
+        )
+    })?;
+    let mut value = super::json::parse(path, &text)?;
+    let root = Node {
+        v: &value,
+        path: "",
+        file: path,
+    };
+    let map = root.object(&[])?.map;
+    match map.get("shape").and_then(|s| s.as_str()) {
+        None if map.contains_key("shape") => {
+            return Err(Error::input(path, "shape", "expected a string"))
+        }
+        None => {
+            if let Some(o) = value.as_object_mut() {
+                o.insert("shape".into(), serde_json::Value::String(kind.into()));
+            }
+        }
+        Some(s) if s != kind => {
+            return Err(Error::input(
+                path,
+                "shape",
+                format!("the spec describes a {s}, but a {kind} was asked for"),
+            ))
+        }
+        Some(_) => {}
+    }
+    super::native::standalone_object(path, &value)
+}

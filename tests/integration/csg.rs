@@ -483,3 +483,142 @@ fn snapshot_of_an_explained_csg_pixel() {
     );
     settings.bind(|| insta::assert_yaml_snapshot!("csg_nested_tube_wall", v));
 }
+
+/// The figures of the book's chapter 5 made by the solids figure function (not yet lesson
+/// commands: `rtlab intersect csg|blob` is wired to it at merge). The committed PNGs must be
+/// what the function draws today; `RTLAB_BLESS=1` rewrites them.
+const SOLID_FIGURES: &[(&str, &str, [f64; 3], [f64; 3], &str)] = &[
+    (
+        "csg",
+        "scenes/solids/dented-column.json",
+        [-3.0, 0.8, 0.75],
+        [1.0, 0.0, 0.0],
+        "book/src/figures/05-csg-intervals.png",
+    ),
+    (
+        "blob",
+        "scenes/solids/thin-neck.json",
+        [-3.0, 0.2, 0.0],
+        [1.0, 0.0, 0.0],
+        "book/src/figures/05-blob-profile.png",
+    ),
+];
+
+#[test]
+fn intersect_solids_figures_are_current() {
+    for (shape, spec, o, d, fig) in SOLID_FIGURES {
+        let out = tmp(&format!("solid-{shape}.png"));
+        let mut text = Vec::new();
+        rtlab::cli::intersect_solids::run(
+            shape,
+            &path(spec),
+            DVec3::from_array(*o),
+            DVec3::from_array(*d),
+            false,
+            Some(&out),
+            &mut text,
+        )
+        .unwrap();
+        let made = std::fs::read(&out).unwrap();
+        if std::env::var("RTLAB_BLESS").is_ok() {
+            std::fs::write(path(fig), &made).unwrap();
+        }
+        let committed = std::fs::read(path(fig)).unwrap_or_default();
+        assert!(
+            made == committed,
+            "{fig} is stale: rerun with RTLAB_BLESS=1"
+        );
+    }
+}
+
+#[test]
+fn intersect_solids_json_reports_intervals_and_hit() {
+    let mut buf = Vec::new();
+    rtlab::cli::intersect_solids::run(
+        "csg",
+        &path("scenes/solids/dented-column.json"),
+        DVec3::new(-3.0, 0.8, 0.75),
+        DVec3::X,
+        true,
+        None,
+        &mut buf,
+    )
+    .unwrap();
+    let v: serde_json::Value = serde_json::from_slice(&buf).unwrap();
+    assert_eq!(v["shape"], "csg");
+    assert_eq!(v["csg"]["op"], "intersection");
+    // Box − dent leaves [2, 2.6536] and [3.3464, 4]; the cylinder [2.0633, 3.9367] trims both.
+    let r2 = 1.2f64 * 1.2 - 0.75 * 0.75;
+    let dent = (0.85f64 * 0.85 - 0.2 * 0.2 - 0.75 * 0.75).sqrt();
+    let combined = v["csg"]["combined"].as_array().unwrap();
+    assert_eq!(combined.len(), 2);
+    let t = |s: &serde_json::Value| s["t"].as_f64().unwrap();
+    assert!((t(&combined[0]["enter"]) - (3.0 - r2.sqrt())).abs() < 1e-12);
+    assert!((t(&combined[0]["exit"]) - (3.0 - dent)).abs() < 1e-12);
+    assert_eq!(combined[0]["exit"]["surface"], "sphere");
+    // The dent's wall bounds the result: its normal there points into the dent (+x at the
+    // far side of the first piece), the opposite of the sphere's own outward normal.
+    assert!(combined[0]["exit"]["normal"][0].as_f64().unwrap() > 0.0);
+    assert_eq!(v["hit"]["surface"], "body");
+    assert!((v["hit"]["t"].as_f64().unwrap() - (3.0 - r2.sqrt())).abs() < 1e-12);
+    let nested = &v["csg"]["children"][0]["csg"];
+    assert_eq!(nested["op"], "difference");
+
+    let mut buf = Vec::new();
+    rtlab::cli::intersect_solids::run(
+        "blob",
+        &path("scenes/solids/thin-neck.json"),
+        DVec3::new(-3.0, 0.2, 0.0),
+        DVec3::X,
+        true,
+        None,
+        &mut buf,
+    )
+    .unwrap();
+    let v: serde_json::Value = serde_json::from_slice(&buf).unwrap();
+    let blob = &v["blob"];
+    assert!(blob["samples"].as_array().unwrap().len() > 5);
+    assert_eq!(
+        blob["brackets"].as_array().unwrap().len(),
+        1,
+        "closest hit: one bracket"
+    );
+    let steps = blob["steps"].as_array().unwrap();
+    let last = steps.last().unwrap();
+    assert!((last["field"].as_f64().unwrap() - 0.5).abs() < 1e-12);
+    assert_eq!(v["hit"]["t"], blob["roots"][0]["t"]);
+    // Errors: wrong kind in the spec, unknown kind, a zero direction.
+    let e = rtlab::cli::intersect_solids::run(
+        "blob",
+        &path("scenes/solids/dented-column.json"),
+        DVec3::ZERO,
+        DVec3::X,
+        false,
+        None,
+        &mut Vec::new(),
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("describes a csg"), "{e}");
+    let e = rtlab::cli::intersect_solids::run(
+        "torus",
+        &path("scenes/solids/thin-neck.json"),
+        DVec3::ZERO,
+        DVec3::X,
+        false,
+        None,
+        &mut Vec::new(),
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("csg or blob"), "{e}");
+    let e = rtlab::cli::intersect_solids::run(
+        "blob",
+        &path("scenes/solids/thin-neck.json"),
+        DVec3::ZERO,
+        DVec3::ZERO,
+        false,
+        None,
+        &mut Vec::new(),
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("non-zero"), "{e}");
+}
