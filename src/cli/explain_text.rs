@@ -344,26 +344,35 @@ pub fn blob_text(o: &mut String, b: &BlobWorking, pad: &str) {
         .iter()
         .map(|s| format!("[{}, {}]", short(s[0]), short(s[1])))
         .collect();
+    if pieces.is_empty() {
+        let _ = writeln!(
+            o,
+            "{pad}blob: the ray misses every component's sphere of influence, where the field is 0 < {}: no root",
+            short(b.threshold)
+        );
+        return;
+    }
     let _ = writeln!(
         o,
         "{pad}blob: surface where the field = {}; |dF/dt| ≤ L = {}; inside the spheres of influence on t in {}",
         short(b.threshold),
         short(b.lipschitz),
-        if pieces.is_empty() { "nothing".to_string() } else { pieces.join(" ") }
+        pieces.join(" ")
     );
     let _ = writeln!(
         o,
-        "{pad}  {} field samples ruled pieces out (same sign at both ends and |F(a)| + |F(b)| > L·(b − a)) or halved them",
+        "{pad}  {} field samples: a piece [a, b] is ruled out when F has the same sign at both ends and |F(a)| + |F(b)| > L·(b − a), else halved",
         b.samples.len()
     );
     for br in &b.brackets {
         let _ = writeln!(
             o,
-            "{pad}  bracket [{}, {}]: field {} → {} crosses {}",
+            "{pad}  bracket [{}, {}] (width {:.1e}): field {:.7} → {:.7} crosses {}",
             short(br.a),
             short(br.b),
-            short(br.field_a),
-            short(br.field_b),
+            br.b - br.a,
+            br.field_a,
+            br.field_b,
             short(b.threshold)
         );
     }
