@@ -55,11 +55,7 @@ pub fn csg(o: &Obj, child: &mut dyn FnMut(Node, usize) -> Result<Object>) -> Res
                 "a CSG child must be a closed solid (sphere, box, capped cylinder or cone, closed mesh, blob or csg): {why}"
             )));
         }
-        Ok(CsgChild {
-            name: obj.name,
-            shape: obj.shape,
-            transform: obj.transform,
-        })
+        Ok(CsgChild::new(obj.name, obj.shape, obj.transform))
     };
     let children = match (o.has("children"), o.has("left") || o.has("right")) {
         (true, true) => {

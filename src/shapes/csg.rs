@@ -18,6 +18,31 @@ pub struct CsgChild {
     pub shape: Shape,
     /// node_from_child (named like an object's world_from_object, one level down).
     pub transform: Transform,
+    /// The child's bounds in the node's space (`None`: unbounded), computed once.
+    pub bounds: Option<Aabb>,
+}
+
+impl CsgChild {
+    pub fn new(name: impl Into<String>, shape: Shape, transform: Transform) -> CsgChild {
+        let bounds = shape
+            .bounds()
+            .map(|b| b.transformed(&transform.world_from_object));
+        CsgChild {
+            name: name.into(),
+            shape,
+            transform,
+            bounds,
+        }
+    }
+
+    /// True when the whole line misses the child's bounding box: then it has no spans, and
+    /// nothing needs solving.
+    fn missed_by(&self, ray: &Ray) -> bool {
+        self.bounds.is_some_and(|b| {
+            b.hit(ray, ray.dir.recip(), f64::NEG_INFINITY, f64::INFINITY)
+                .is_none()
+        })
+    }
 }
 
 /// A CSG node: its operation folded over the children from left to right
@@ -37,8 +62,17 @@ impl Csg {
         obs.csg_begin(self.op);
         let mut result: Option<Vec<Span>> = None;
         for child in &self.children {
-            let local = child.transform.ray_to_object(ray);
-            let mut spans = child.shape.spans(&local, obs);
+            if !O::ACTIVE
+                && result.as_ref().is_some_and(|r| r.is_empty())
+                && self.op != CsgOp::Union
+            {
+                break; // nothing ∩ X and nothing − X are nothing
+            }
+            let mut spans = if child.missed_by(ray) {
+                Vec::new()
+            } else {
+                child.shape.spans(&child.transform.ray_to_object(ray), obs)
+            };
             for s in &mut spans {
                 for h in [&mut s.enter, &mut s.exit] {
                     h.normal = child.transform.normal_to_world(h.normal);
@@ -85,12 +119,7 @@ impl Csg {
     /// Bounds in the node's space: a union is bounded by all children, an intersection by
     /// the overlap of their boxes, a difference by its first child.
     pub fn bounds(&self) -> Option<Aabb> {
-        let child = |c: &CsgChild| {
-            c.shape
-                .bounds()
-                .map(|b| b.transformed(&c.transform.world_from_object))
-        };
-        let mut boxes = self.children.iter().map(child);
+        let mut boxes = self.children.iter().map(|c| c.bounds);
         let first = boxes.next()??;
         match self.op {
             CsgOp::Difference => Some(first),

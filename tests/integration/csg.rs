@@ -13,11 +13,7 @@ use rtlab::trace::NoRecorder;
 use std::sync::Arc;
 
 fn child(name: &str, shape: Shape, transform: Transform) -> CsgChild {
-    CsgChild {
-        name: name.into(),
-        shape,
-        transform,
-    }
+    CsgChild::new(name, shape, transform)
 }
 
 fn unit_box() -> Shape {
