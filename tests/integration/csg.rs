@@ -483,7 +483,9 @@ fn snapshot_of_an_explained_csg_pixel() {
 /// The figures of the book's chapter 5 made by the solids figure function (not yet lesson
 /// commands: `rtlab intersect csg|blob` is wired to it at merge). The committed PNGs must be
 /// what the function draws today; `RTLAB_BLESS=1` rewrites them.
-const SOLID_FIGURES: &[(&str, &str, [f64; 3], [f64; 3], &str)] = &[
+/// (shape, spec, origin, direction, committed figure)
+type SolidFigure = (&'static str, &'static str, [f64; 3], [f64; 3], &'static str);
+const SOLID_FIGURES: &[SolidFigure] = &[
     (
         "csg",
         "scenes/solids/dented-column.json",
