@@ -361,7 +361,7 @@ pub fn blob_text(o: &mut String, b: &BlobWorking, pad: &str) {
     );
     let _ = writeln!(
         o,
-        "{pad}  {} field samples: a piece [a, b] is ruled out when F has the same sign at both ends and |F(a)| + |F(b)| > L·(b − a), else halved",
+        "{pad}  {} field samples: a piece [a, b] is ruled out when F has the same sign at both ends and |F(a)| + |F(b)| > L·(b − a), or the field's bounds on it stay on one side of the threshold; else it is halved",
         b.samples.len()
     );
     for br in &b.brackets {

@@ -10,7 +10,9 @@
 //!    of the ray inside those spheres can hold a root. On a piece [a, b], F cannot change by
 //!    more than L·(b − a), where L bounds |dF/dt| (a Lipschitz constant: Σ |s|·max|f'|/R·|d|).
 //!    If F(a) and F(b) have the same sign and |F(a)| + |F(b)| > L·(b − a), there is no root
-//!    in [a, b]; otherwise halve it and look again. Nothing thinner than the smallest piece
+//!    in [a, b]. Nor is there when interval arithmetic keeps the field on one side of T (each
+//!    bump is largest where the piece passes closest to its centre, smallest at the far
+//!    end). Otherwise halve the piece and look again. Nothing thinner than the smallest piece
 //!    looked at (a millionth of the smallest radius) can be missed.
 //! 2. Refine each bracket [a, b] with F(a), F(b) of opposite sign by Newton's method,
 //!    falling back to bisection whenever a Newton step would leave the bracket.
@@ -277,11 +279,48 @@ impl<O: Observer> Search<'_, O> {
         field - self.blob.threshold
     }
 
+    /// Bounds of the field on the piece [a, b] by interval arithmetic: f falls with r, so a
+    /// bump is largest at the point of the piece closest to its centre and smallest at the
+    /// farther end.
+    fn field_range(&self, a: f64, b: f64) -> (f64, f64) {
+        let (p, d) = (self.ray.origin, self.ray.dir);
+        let dd = d.length_squared();
+        let (mut lo, mut hi) = (0.0, 0.0);
+        for c in &self.blob.components {
+            let inv_r2 = 1.0 / (c.radius * c.radius);
+            let closest = ((c.center - p).dot(d) / dd).clamp(a, b);
+            let near = (p + closest * d - c.center).length_squared() * inv_r2;
+            let far = (p + a * d - c.center)
+                .length_squared()
+                .max((p + b * d - c.center).length_squared())
+                * inv_r2;
+            let (f_near, f_far) = (
+                self.blob.falloff.eval(near).0,
+                self.blob.falloff.eval(far).0,
+            );
+            if c.strength > 0.0 {
+                hi += c.strength * f_near;
+                lo += c.strength * f_far;
+            } else {
+                hi += c.strength * f_far;
+                lo += c.strength * f_near;
+            }
+        }
+        (lo, hi)
+    }
+
     /// Looks for roots in [a, b] in order; returns true to stop (first root found).
     fn bracket(&mut self, a: f64, b: f64, fa: f64, fb: f64) -> bool {
         let same_sign = (fa > 0.0) == (fb > 0.0);
         if same_sign && fa.abs() + fb.abs() > self.lipschitz * (b - a) {
             return false; // F cannot reach 0 between a and b
+        }
+        if same_sign {
+            let (lo, hi) = self.field_range(a, b);
+            let t = self.blob.threshold;
+            if hi < t || lo > t {
+                return false; // the field stays on one side of the threshold on [a, b]
+            }
         }
         if b - a <= self.h_min {
             if !same_sign {
