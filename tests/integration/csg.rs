@@ -620,3 +620,52 @@ fn intersect_solids_json_reports_intervals_and_hit() {
     .unwrap_err();
     assert!(e.to_string().contains("non-zero"), "{e}");
 }
+
+#[test]
+fn closed_meshes_are_csg_solids_and_open_ones_are_refused() {
+    // The prism (a closed triangle mesh, circumradius 1, z from −1.5 to 1.5) minus a sphere
+    // in its middle: a ray along z enters the end cap, leaves into the hole, re-enters, leaves.
+    let meshes = path("scenes/meshes");
+    let json = format!(
+        r#"{{"camera": {{"position": [0, 0, 5]}}, "objects": [{{"name": "drilled", "shape": "csg", "op": "difference",
+           "children": [{{"shape": "mesh", "file": "{}/prism.obj"}}, {{"shape": "sphere", "radius": 0.3}}]}}]}}"#,
+        meshes.display()
+    );
+    let scene = rtlab::scene::Scene::load(&write_tmp("csg_mesh.json", &json)).unwrap();
+    let Shape::Csg(csg) = &scene.objects[0].shape else {
+        panic!()
+    };
+    let ray = Ray::new(DVec3::new(0.0, 0.1, -4.0), DVec3::Z);
+    let s = csg.spans(&ray, &mut NoObserver);
+    let hole = (0.3f64 * 0.3 - 0.1 * 0.1).sqrt();
+    assert!(
+        close(&ts(&s), &[(2.5, 4.0 - hole), (4.0 + hole, 5.5)]),
+        "{:?}",
+        ts(&s)
+    );
+    assert_eq!(s[0].enter.surface, "triangle");
+    assert!(s[0].enter.normal.dot(ray.dir) < 0.0 && s[0].exit.normal.dot(ray.dir) > 0.0);
+    // Each side face is two triangles split along a diagonal; at y = 0.25, z = 0 the ray
+    // crosses both side faces exactly on those diagonals, where two triangles report the
+    // same crossing: it still counts once, and the pieces are the prism's minus the hole.
+    let along_x = Ray::new(DVec3::new(-3.0, 0.25, 0.0), DVec3::X);
+    let s = csg.spans(&along_x, &mut NoObserver);
+    let side = 0.866025 * 0.75 / 1.5; // half-width of the cross-section at y = 0.25
+    let hole = (0.3f64 * 0.3 - 0.25 * 0.25).sqrt();
+    assert!(
+        close(
+            &ts(&s),
+            &[(3.0 - side, 3.0 - hole), (3.0 + hole, 3.0 + side)]
+        ),
+        "{:?}",
+        ts(&s)
+    );
+    // The teapot is not closed: refused as a CSG child.
+    let json = format!(
+        r#"{{"camera": {{"position": [0, 0, 5]}}, "objects": [{{"shape": "csg",
+           "children": [{{"shape": "mesh", "file": "{}/teapot.obj"}}]}}]}}"#,
+        meshes.display()
+    );
+    let err = rtlab::scene::Scene::load(&write_tmp("csg_teapot.json", &json)).unwrap_err();
+    assert!(err.to_string().contains("not closed"), "{err}");
+}
