@@ -5,6 +5,7 @@ pub mod convert;
 pub mod explain;
 pub mod explain_text;
 pub mod intersect;
+pub mod intersect_solids;
 pub mod lessons;
 pub mod render;
 pub mod schema;

@@ -8,6 +8,7 @@ pub mod intersect;
 pub mod labels;
 pub mod slice;
 pub mod steps;
+pub mod solids;
 pub mod style;
 
 pub use canvas::{Anchor, Canvas, Prim};

@@ -3,6 +3,7 @@
 mod book;
 mod common;
 mod cs1230;
+mod csg;
 mod explain;
 mod intersect;
 mod render;
