@@ -78,6 +78,13 @@ pub struct RenderArgs {
     /// Reconstruction filter: box, tent, gaussian, mitchell.
     #[arg(long, value_name = "KIND")]
     pub filter: Option<String>,
+    /// Subsampling: trace only every K-th pixel in x and y and let the (stretched) filter
+    /// fill in the rest.
+    #[arg(long, value_name = "K")]
+    pub subsample: Option<u32>,
+    /// Adaptive sampler: split a cell when its samples differ by more than this (default 0.1).
+    #[arg(long, value_name = "T")]
+    pub adaptive_threshold: Option<f64>,
     /// Maximum recursion depth (0: ray casting, no reflection or refraction).
     #[arg(long, value_name = "D")]
     pub max_depth: Option<u32>,
@@ -140,6 +147,22 @@ impl RenderArgs {
                 )
             })?;
         }
+        if let Some(k) = self.subsample {
+            if !(1..=64).contains(&k) {
+                return Err(Error::arg(
+                    "--subsample",
+                    format!("{k} is out of range (1 traces every pixel; at most 64)"),
+                ));
+            }
+        }
+        if let Some(t) = self.adaptive_threshold {
+            if !(t.is_finite() && t >= 0.0) {
+                return Err(Error::arg(
+                    "--adaptive-threshold",
+                    format!("{t} is not a colour difference (expected a number ≥ 0, e.g. 0.1)"),
+                ));
+            }
+        }
         if let Some(e) = &self.encoding {
             if e != "clamp" && e != "srgb" {
                 return Err(Error::arg(
@@ -187,6 +210,12 @@ impl RenderArgs {
         crate::sampling::validate_spp(r.sampler, r.spp).map_err(|m| Error::arg("--spp", m))?;
         if let Some(d) = self.max_depth {
             r.max_depth = d;
+        }
+        if let Some(k) = self.subsample {
+            r.subsample = k;
+        }
+        if let Some(t) = self.adaptive_threshold {
+            r.adaptive_threshold = t;
         }
         if let Some(s) = self.seed {
             r.seed = s;
