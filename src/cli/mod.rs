@@ -1,6 +1,7 @@
 //! One module per subcommand, each an args struct and a `run`. Options shared by every
 //! command that renders are one flattened group, [`RenderArgs`].
 
+pub mod compare;
 pub mod explain;
 pub mod explain_text;
 pub mod lessons;
@@ -40,6 +41,8 @@ pub enum Command {
     Schema(schema::Args),
     /// Build or check the book's figures from lessons/*.json.
     Lessons(lessons::Args),
+    /// Render at several sampling settings side by side, against a high-spp reference.
+    Compare(compare::Args),
 }
 
 /// Runs a parsed command line, writing what a command prints to `out` (stdout for the
@@ -51,6 +54,7 @@ pub fn run(cli: Cli, out: &mut dyn Write) -> Result<()> {
         Command::Validate(a) => validate::run(a, out),
         Command::Schema(a) => schema::run(a, out),
         Command::Lessons(a) => lessons::run(a, out),
+        Command::Compare(a) => compare::run(a, out),
     }
 }
 

@@ -3,6 +3,7 @@
 //! drawn, in order, with rounded coordinates) for snapshot tests.
 
 pub mod canvas;
+pub mod compare;
 pub mod heatmap;
 pub mod style;
 
