@@ -96,12 +96,15 @@ pub fn pixel_samples(kind: SamplerKind, spp: u32, seed: u64, x: u32, y: u32) -> 
 }
 // ANCHOR_END: samplers
 
-/// Does pixel (x, y) trace samples at all? With `--subsample K` only every K-th pixel in x
-/// and y does; the filter, stretched K times, fills in the others.
-pub fn traces_samples(settings: &RenderSettings, x: u32, y: u32) -> bool {
+// ANCHOR: subsample
+/// Does pixel (x, y) of a `width`×`height` image trace samples at all? With `--subsample K`
+/// only every K-th column and row do, plus the last column and row so that the border has
+/// samples to reconstruct from; the filter, stretched K times, fills in the others.
+pub fn traces_samples(settings: &RenderSettings, width: u32, height: u32, x: u32, y: u32) -> bool {
     let k = settings.subsample.max(1);
-    x % k == 0 && y % k == 0
+    (x % k == 0 || x + 1 == width) && (y % k == 0 || y + 1 == height)
 }
+// ANCHOR_END: subsample
 
 // ANCHOR: corners
 /// The corner samples pixel (x, y) traces itself: its top-left corner, and the corners on the
@@ -136,7 +139,7 @@ pub fn sample_pixel(
     y: u32,
     mut trace: impl FnMut(u32, DVec2) -> DVec3,
 ) -> Vec<PixelSample> {
-    if !traces_samples(settings, x, y) {
+    if !traces_samples(settings, width, height, x, y) {
         return Vec::new();
     }
     let films = match settings.sampler {
@@ -337,10 +340,11 @@ mod tests {
             subsample: 2,
             ..settings(SamplerKind::Center, 1)
         };
-        let n: usize = (0..4)
-            .flat_map(|y| (0..4).map(move |x| (x, y)))
-            .map(|(x, y)| sample_pixel(&s, 4, 4, x, y, |_, _| DVec3::ZERO).len())
+        // Columns and rows 0, 2, 4 and the last one, 5.
+        let n: usize = (0..6)
+            .flat_map(|y| (0..6).map(move |x| (x, y)))
+            .map(|(x, y)| sample_pixel(&s, 6, 6, x, y, |_, _| DVec3::ZERO).len())
             .sum();
-        assert_eq!(n, 4);
+        assert_eq!(n, 16);
     }
 }

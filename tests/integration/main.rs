@@ -4,5 +4,6 @@ mod book;
 mod common;
 mod explain;
 mod render;
+mod sampling;
 mod shading;
 mod shapes;
