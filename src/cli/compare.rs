@@ -227,12 +227,18 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
         let img = o.image.to_rgb8(s.render.encoding);
         let samples: u64 = o.spp_map.iter().flatten().map(|&n| n as u64).sum();
         let rays = o.stats.as_ref().map_or(0, |st| st.rays.total);
-        Ok((img, samples, rays, o.trace_seconds))
+        Ok((
+            img,
+            samples,
+            rays,
+            o.trace_seconds,
+            o.spp_map.unwrap_or_default(),
+        ))
     };
-    let (reference, _, _, _) = render_with(args.reference_spp, SamplerKind::Jittered, 1)?;
+    let (reference, _, _, _, _) = render_with(args.reference_spp, SamplerKind::Jittered, 1)?;
     let mut panels = Vec::new();
     for r in &runs {
-        let (img, samples, rays, seconds) = render_with(r.spp, r.sampler, subsample)?;
+        let (img, samples, rays, seconds, spp_map) = render_with(r.spp, r.sampler, subsample)?;
         let (rmse, psnr) = rmse_psnr(&img, &reference);
         panels.push(Panel {
             label: label(r, subsample),
@@ -242,6 +248,7 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
             seconds,
             rmse,
             psnr,
+            spp_map,
         });
     }
     let crop = crop_arg.unwrap_or_else(|| {
@@ -250,7 +257,16 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
     });
     let ref_label = format!("reference: {} spp · jittered", args.reference_spp);
     if let Some(o) = &args.output {
-        figure(&panels, &reference, &ref_label, crop, args.show_time).save(o)?;
+        let adaptive = runs.iter().any(|r| r.sampler == SamplerKind::Adaptive);
+        figure(
+            &panels,
+            &reference,
+            &ref_label,
+            crop,
+            args.show_time,
+            adaptive,
+        )
+        .save(o)?;
     }
 
     let filter = scene.render.filter.name();

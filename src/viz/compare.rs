@@ -3,7 +3,7 @@
 //! reference, and a metrics table. Everything drawn is a function of the images and counts,
 //! never of the clock (unless `show_time`), so the figure's bytes are deterministic.
 
-use super::heatmap::heat_map;
+use super::heatmap::{heat_map, spp_heat_map};
 use super::{style, Anchor, Canvas};
 use image::RgbImage;
 
@@ -18,6 +18,8 @@ pub struct Panel {
     pub seconds: f64,
     pub rmse: f64,
     pub psnr: Option<f64>,
+    /// Samples traced per pixel ([`crate::sampling::RenderOutput::spp_map`]).
+    pub spp_map: Vec<u32>,
 }
 
 /// The error that the heat maps draw brightest (errors above saturate).
@@ -98,13 +100,15 @@ fn fmt_count(n: u64) -> String {
     out
 }
 
-/// Draws the comparison: one column per panel plus the reference, rows image / crop / error.
+/// Draws the comparison: one column per panel plus the reference, rows image / crop / error,
+/// and, with `spp_row` (an adaptive run is shown), the samples each pixel traced.
 pub fn figure(
     panels: &[Panel],
     reference: &RgbImage,
     reference_label: &str,
     crop: Crop,
     show_time: bool,
+    spp_row: bool,
 ) -> Canvas {
     let (iw, ih) = reference.dimensions();
     // Images are shown at least ~220 px wide, magnified by a whole factor (nearest neighbour).
@@ -120,7 +124,16 @@ pub fn figure(
     let table_row = 22u32;
     let table_h = table_row * (panels.len() as u32 + 1) + 16;
     let width = margin * 2 + cols * pw + (cols - 1) * gap;
-    let height = margin + label_h + ph + row_title + chh + row_title + ph + 34 + table_h + margin;
+    let spp_h = if spp_row { row_title + ph } else { 0 };
+    let height =
+        margin + label_h + ph + row_title + chh + row_title + ph + spp_h + 34 + table_h + margin;
+    let max_spp = panels
+        .iter()
+        .flat_map(|p| p.spp_map.iter())
+        .copied()
+        .max()
+        .unwrap_or(1)
+        .max(1);
     let mut c = Canvas::new(width, height, style::background());
     let ink = style::ink();
     let muted = style::muted();
@@ -134,10 +147,11 @@ pub fn figure(
     // errors of a quarter of the range and more are all bright yellow.
     let max_err = ERROR_SCALE;
 
-    let columns: Vec<(&str, &RgbImage, Option<&Vec<f64>>)> = panels
+    type Column<'a> = (&'a str, &'a RgbImage, Option<(&'a Vec<f64>, &'a Vec<u32>)>);
+    let columns: Vec<Column> = panels
         .iter()
         .zip(&errors)
-        .map(|(p, e)| (p.label.as_str(), &p.image, Some(e)))
+        .map(|(p, e)| (p.label.as_str(), &p.image, Some((e, &p.spp_map))))
         .chain(std::iter::once((reference_label, reference, None)))
         .collect();
     for (i, (label, img, err)) in columns.iter().enumerate() {
@@ -183,7 +197,24 @@ pub fn figure(
             None,
         );
         y += chh + row_title;
-        if let Some(e) = err {
+        if let Some((e, spp)) = err {
+            if spp_row {
+                let y = y + ph + row_title;
+                if i == 0 {
+                    c.text(
+                        (x0 as f32, (y - row_title / 2) as f32),
+                        &format!("samples per pixel (black 0, yellow {max_spp})"),
+                        12.0,
+                        muted,
+                        Anchor::Left,
+                    );
+                }
+                c.image(
+                    (x0 as i32, y as i32),
+                    &spp_heat_map(spp, iw, ih, max_spp),
+                    scale,
+                );
+            }
             if i == 0 {
                 c.text(
                     (x0 as f32, (y - row_title / 2) as f32),
@@ -206,7 +237,7 @@ pub fn figure(
     }
 
     // The metrics table.
-    let mut y = margin + label_h + ph + row_title + chh + row_title + ph + 34;
+    let mut y = margin + label_h + ph + row_title + chh + row_title + ph + spp_h + 34;
     let mut headers = vec!["run", "samples", "rays", "RMSE", "PSNR (dB)"];
     if show_time {
         headers.push("time (s)");
