@@ -6,6 +6,7 @@ pub mod explain;
 pub mod explain_text;
 pub mod lessons;
 pub mod render;
+pub mod samples;
 pub mod schema;
 pub mod validate;
 
@@ -43,6 +44,8 @@ pub enum Command {
     Lessons(lessons::Args),
     /// Render at several sampling settings side by side, against a high-spp reference.
     Compare(compare::Args),
+    /// Draw where each sampler puts its samples in a few pixels.
+    Samples(samples::Args),
 }
 
 /// Runs a parsed command line, writing what a command prints to `out` (stdout for the
@@ -55,6 +58,7 @@ pub fn run(cli: Cli, out: &mut dyn Write) -> Result<()> {
         Command::Schema(a) => schema::run(a, out),
         Command::Lessons(a) => lessons::run(a, out),
         Command::Compare(a) => compare::run(a, out),
+        Command::Samples(a) => samples::run(a, out),
     }
 }
 

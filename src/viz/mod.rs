@@ -5,6 +5,7 @@
 pub mod canvas;
 pub mod compare;
 pub mod heatmap;
+pub mod samples;
 pub mod style;
 
 pub use canvas::{Anchor, Canvas, Prim};
