@@ -123,7 +123,9 @@ pub fn figure(
     let row_title = 20u32;
     let table_row = 22u32;
     let table_h = table_row * (panels.len() as u32 + 1) + 16;
-    let width = margin * 2 + cols * pw + (cols - 1) * gap;
+    let col_w = [170.0f32, 100.0, 110.0, 80.0, 90.0, 80.0];
+    let table_w = col_w[..if show_time { 6 } else { 5 }].iter().sum::<f32>() as u32;
+    let width = margin * 2 + (cols * pw + (cols - 1) * gap).max(table_w);
     let spp_h = if spp_row { row_title + ph } else { 0 };
     let height =
         margin + label_h + ph + row_title + chh + row_title + ph + spp_h + 34 + table_h + margin;
@@ -157,10 +159,12 @@ pub fn figure(
     for (i, (label, img, err)) in columns.iter().enumerate() {
         let x0 = margin + i as u32 * (pw + gap);
         let mut y = margin;
+        // Long labels shrink to fit their column.
+        let size = (15.0 * (pw + gap / 2) as f32 / Canvas::text_width(label, 15.0)).min(15.0);
         c.text(
             ((x0 + pw / 2) as f32, (y + label_h / 2) as f32),
             label,
-            15.0,
+            size,
             ink,
             Anchor::Center,
         );
@@ -242,7 +246,6 @@ pub fn figure(
     if show_time {
         headers.push("time (s)");
     }
-    let col_w = [170.0f32, 100.0, 110.0, 80.0, 90.0, 80.0];
     let x_at = |k: usize| margin as f32 + col_w[..k].iter().sum::<f32>();
     for (k, h) in headers.iter().enumerate() {
         c.text(
