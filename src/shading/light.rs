@@ -98,19 +98,22 @@ impl Light {
                 );
                 s
             }
+            // ANCHOR: area_sample
             LightKind::Area {
                 corner,
                 edge_u,
                 edge_v,
                 samples,
             } => {
+                // Stratified: sample k lies in cell (k mod nu, k div nu) of the light's grid,
+                // jittered by the camera sample's own random stream, so `explain` replays it.
                 let (nu, nv) = (samples[0] as usize, samples[1] as usize);
                 let (i, j) = (k % nu, k / nu);
                 let su = (i as f64 + rng.next_f64()) / nu as f64;
                 let sv = (j as f64 + rng.next_f64()) / nv as f64;
                 let q = *corner + *edge_u * su + *edge_v * sv;
                 self.towards(p, q, 1.0, 1.0 / (nu * nv) as f64)
-            }
+            } // ANCHOR_END: area_sample
         }
     }
 
