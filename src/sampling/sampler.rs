@@ -26,7 +26,9 @@ pub fn validate_spp(kind: SamplerKind, spp: u32) -> Result<(), String> {
             ));
         }
     }
-    if kind == SamplerKind::Adaptive && !(spp.is_power_of_two() && spp.trailing_zeros() % 2 == 0) {
+    if kind == SamplerKind::Adaptive
+        && !(spp.is_power_of_two() && spp.trailing_zeros().is_multiple_of(2))
+    {
         return Err(format!(
             "the adaptive sampler needs a power of four (1, 4, 16, 64, 256): the finest grid it \
              refines to, found {spp}"
@@ -102,7 +104,7 @@ pub fn pixel_samples(kind: SamplerKind, spp: u32, seed: u64, x: u32, y: u32) -> 
 /// samples to reconstruct from; the filter, stretched K times, fills in the others.
 pub fn traces_samples(settings: &RenderSettings, width: u32, height: u32, x: u32, y: u32) -> bool {
     let k = settings.subsample.max(1);
-    (x % k == 0 || x + 1 == width) && (y % k == 0 || y + 1 == height)
+    (x.is_multiple_of(k) || x + 1 == width) && (y.is_multiple_of(k) || y + 1 == height)
 }
 // ANCHOR_END: subsample
 
