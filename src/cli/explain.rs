@@ -67,7 +67,7 @@ pub fn explain(scene: &Scene, x: u32, y: u32) -> Explanation {
     let s = &scene.render;
     let (w, h) = (scene.camera.width, scene.camera.height);
     let traced: RefCell<BTreeMap<(u32, u32, u32), SampleNode>> = RefCell::new(BTreeMap::new());
-    let filter = Filter::scaled(s.filter, s.subsample);
+    let filter = Filter::for_settings(s);
     let (color, weights) = crate::sampling::render_reconstruct(&filter, x, y, w, h, |qx, qy| {
         sample_pixel(s, w, h, qx, qy, |k, film| {
             let mut rec = TreeRecorder::new(scene);

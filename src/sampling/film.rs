@@ -155,7 +155,7 @@ fn render_with<R: Tally>(
     }
     let grid: Vec<&Vec<PixelSample>> = rows.iter().flat_map(|r| r.0.iter()).collect();
     let spp_map = Some(grid.iter().map(|s| s.len() as u32).collect());
-    let filter = Filter::scaled(settings.filter, settings.subsample);
+    let filter = Filter::for_settings(settings);
     let pixels = (0..h)
         .into_par_iter()
         .flat_map_iter(|y| {

@@ -9,6 +9,9 @@ pub struct Filter {
     /// Stretch factor: the filter's shape is drawn over `scale` pixels per unit (the
     /// subsampling factor K, so that samples K pixels apart still cover every pixel).
     pub scale: f64,
+    /// Samples may lie on a pixel's far border (the corners sampler's shared corners), where
+    /// a box of radius 0.5 still reaches them from the next pixel.
+    pub border_samples: bool,
 }
 
 impl Filter {
@@ -31,6 +34,16 @@ impl Filter {
             kind,
             radius: base * scale,
             scale,
+            border_samples: false,
+        }
+    }
+
+    /// The filter a render with these settings uses: its kind, stretched by `--subsample`,
+    /// reaching border samples when the sampler puts samples on pixel corners.
+    pub fn for_settings(settings: &crate::scene::RenderSettings) -> Filter {
+        Filter {
+            border_samples: settings.sampler == crate::scene::SamplerKind::Corners,
+            ..Filter::scaled(settings.filter, settings.subsample)
         }
     }
 
@@ -75,11 +88,15 @@ impl Filter {
     }
     // ANCHOR_END: filter
 
-    /// How many pixels around a pixel can hold samples that reach it. Samples may lie on a
-    /// pixel's border (the corners sampler), so a neighbour `n` pixels away holds samples
-    /// `n − 0.5` from the centre, and a box of radius 0.5 already reaches the next pixel.
+    /// How many pixels around a pixel can hold samples that reach it. A neighbour `n` pixels
+    /// away holds samples from `n − 0.5` from the centre on, at its border, but only the
+    /// corners sampler puts samples there (elsewhere they lie inside [x, x + 1)).
     pub fn reach(&self) -> i64 {
-        (self.radius + 0.5).floor() as i64
+        if self.border_samples {
+            (self.radius + 0.5).floor() as i64
+        } else {
+            (self.radius + 0.5).ceil() as i64 - 1
+        }
     }
 }
 
@@ -98,7 +115,12 @@ mod tests {
         assert!(m.weight(1.5, 0.0) < 0.0); // negative lobe sharpens
         let g = Filter::new(FilterKind::Gaussian);
         assert!(g.weight(0.0, 0.0) > g.weight(1.0, 0.0) && g.weight(1.6, 0.0) == 0.0);
-        assert_eq!(b.reach(), 1); // corner samples on the border
+        assert_eq!(b.reach(), 0);
+        let corners = Filter {
+            border_samples: true,
+            ..b
+        };
+        assert_eq!(corners.reach(), 1); // the shared corners on the far border
         assert_eq!(t.reach(), 1);
         assert_eq!(m.reach(), 2);
         // Stretched for subsampling by 2: the same shape over twice the distance.
