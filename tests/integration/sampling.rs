@@ -347,3 +347,65 @@ fn compare_errors_are_clear() {
     let o = rtlab(&["render", s, "--subsample", "0", "-o", "/tmp/x.png"]);
     assert_eq!(o.status.code(), Some(2));
 }
+
+#[test]
+fn samples_figure_and_explain_sample_checks() {
+    let out = tmp("samples.png");
+    let o = rtlab(&[
+        "samples",
+        "--sampler",
+        "corners",
+        "--sampler",
+        "adaptive",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let img = image::open(&out).unwrap();
+    assert!(img.width() > 2 * 192 && img.height() > 192);
+    // A subsampled pixel that traces nothing has no sample to replay, and says why.
+    let s = path("scenes/aliasing.json");
+    let o = rtlab(&[
+        "explain",
+        s.to_str().unwrap(),
+        "--pixel",
+        "1,1",
+        "--subsample",
+        "2",
+        "--sample",
+        "0",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("traces no samples of its own"),
+        "{}",
+        stderr(&o)
+    );
+    // An adaptive pixel on the sphere's silhouette refines to 20 samples; the last one can be
+    // replayed alone, and there is no 21st.
+    let args = |k: &'static str| {
+        let s = s.clone();
+        rtlab(&[
+            "explain",
+            s.to_str().unwrap(),
+            "--pixel",
+            "130,40",
+            "--sampler",
+            "adaptive",
+            "--spp",
+            "16",
+            "--sample",
+            k,
+            "--format",
+            "json",
+        ])
+    };
+    let o = args("19");
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["samples"].as_array().unwrap().len(), 1);
+    assert_eq!(v["samples"][0]["index"], 19);
+    let o = args("20");
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("has 20 sample(s)"), "{}", stderr(&o));
+}
