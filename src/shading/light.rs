@@ -72,6 +72,7 @@ impl Light {
     }
     // ANCHOR_END: f_att
 
+    // ANCHOR: light_sample
     /// Sample `k` of this light seen from `p`. Area lights are stratified: one jittered point
     /// per cell of their grid, from the sample's own random stream.
     pub fn sample(&self, p: DVec3, k: usize, rng: &mut Rng) -> LightSample {
@@ -98,7 +99,6 @@ impl Light {
                 );
                 s
             }
-            // ANCHOR: area_sample
             LightKind::Area {
                 corner,
                 edge_u,
@@ -113,9 +113,10 @@ impl Light {
                 let sv = (j as f64 + rng.next_f64()) / nv as f64;
                 let q = *corner + *edge_u * su + *edge_v * sv;
                 self.towards(p, q, 1.0, 1.0 / (nu * nv) as f64)
-            } // ANCHOR_END: area_sample
+            }
         }
     }
+    // ANCHOR_END: light_sample
 
     fn towards(&self, p: DVec3, q: DVec3, spot: f64, share: f64) -> LightSample {
         let to = q - p;

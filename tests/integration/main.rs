@@ -2,6 +2,7 @@
 
 mod book;
 mod common;
+mod cs1230;
 mod explain;
 mod render;
 mod sampling;
