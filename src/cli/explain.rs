@@ -6,7 +6,7 @@
 
 use super::RenderArgs;
 use crate::error::{Error, Result};
-use crate::sampling::{encode, pixel_samples, Filter};
+use crate::sampling::{encode, sample_pixel, Filter};
 use crate::scene::Scene;
 use crate::trace::{trace_sample, RayNode, TreeRecorder};
 use glam::{DVec2, DVec3};
@@ -74,39 +74,38 @@ pub fn explain(scene: &Scene, x: u32, y: u32) -> Explanation {
     let s = &scene.render;
     let (w, h) = (scene.camera.width, scene.camera.height);
     let traced: RefCell<BTreeMap<(u32, u32, u32), SampleNode>> = RefCell::new(BTreeMap::new());
-    let filter = Filter::new(s.filter);
+    let filter = Filter::for_settings(s);
     let (color, weights) = crate::sampling::render_reconstruct(&filter, x, y, w, h, |qx, qy| {
-        pixel_samples(s.sampler, s.spp, s.seed, qx, qy)
-            .into_iter()
-            .enumerate()
-            .map(|(k, film)| {
-                let mut rec = TreeRecorder::new(scene);
-                let r = trace_sample(scene, s, qx, qy, k as u32, film, &mut rec);
-                let color = if r.color.is_finite() {
-                    r.color
-                } else {
-                    DVec3::ZERO
-                };
-                let g = r.generation;
-                traced.borrow_mut().insert(
-                    (qy, qx, k as u32),
-                    SampleNode {
-                        index: k as u32,
-                        pixel: [qx, qy],
-                        film,
-                        weight: 0.0,
-                        color,
-                        camera: CameraNode {
-                            ndc: g.ndc,
-                            film_point: g.film_point,
-                            world_point: g.world_point,
-                        },
-                        ray: rec.root.expect("a camera ray was traced"),
+        sample_pixel(s, w, h, qx, qy, |k, film| {
+            let mut rec = TreeRecorder::new(scene);
+            let r = trace_sample(scene, s, qx, qy, k, film, &mut rec);
+            let color = if r.color.is_finite() {
+                r.color
+            } else {
+                DVec3::ZERO
+            };
+            let g = r.generation;
+            traced.borrow_mut().insert(
+                (qy, qx, k),
+                SampleNode {
+                    index: k,
+                    pixel: [qx, qy],
+                    film,
+                    weight: 0.0,
+                    color,
+                    camera: CameraNode {
+                        ndc: g.ndc,
+                        film_point: g.film_point,
+                        world_point: g.world_point,
                     },
-                );
-                (film, color)
-            })
-            .collect()
+                    ray: rec.root.expect("a camera ray was traced"),
+                },
+            );
+            color
+        })
+        .into_iter()
+        .map(|p| (p.film, p.color, p.area))
+        .collect()
     });
     let mut traced = traced.into_inner();
     let samples = weights
@@ -176,26 +175,35 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
     }
     let scene = args.render.load(&args.scene)?;
     let (x, y) = parse_pixel(&args.pixel, scene.camera.width, scene.camera.height)?;
-    let spp = pixel_samples(
-        scene.render.sampler,
-        scene.render.spp,
-        scene.render.seed,
-        x,
-        y,
-    )
-    .len() as u32;
+    let mut e = explain(&scene, x, y);
     if let Some(k) = args.sample {
-        if k >= spp {
+        // The pixel's own samples (the adaptive sampler decides how many while tracing).
+        let own = e.samples.iter().filter(|s| s.pixel == [x, y]).count() as u32;
+        let own = own.max(
+            crate::sampling::sample_pixel(
+                &scene.render,
+                scene.camera.width,
+                scene.camera.height,
+                x,
+                y,
+                |_, _| DVec3::ZERO,
+            )
+            .len() as u32,
+        );
+        if k >= own {
             return Err(Error::arg(
                 "--sample",
-                format!(
-                    "sample {k} does not exist: pixel ({x}, {y}) has {spp} sample(s), 0..{}",
-                    spp - 1
-                ),
+                if own == 0 {
+                    format!("pixel ({x}, {y}) traces no samples of its own (it is filled in by --subsample)")
+                } else {
+                    format!(
+                        "sample {k} does not exist: pixel ({x}, {y}) has {own} sample(s), 0..{}",
+                        own - 1
+                    )
+                },
             ));
         }
     }
-    let mut e = explain(&scene, x, y);
     if let Some(k) = args.sample {
         e.samples.retain(|s| s.pixel == [x, y] && s.index == k);
     }

@@ -22,15 +22,30 @@ fn color(v: DVec3) -> String {
 pub fn text(scene: &Scene, e: &Explanation) -> String {
     let mut o = String::new();
     let r = &scene.render;
+    let own = e.samples.iter().filter(|s| s.pixel == e.pixel).count();
+    let spp = match r.sampler {
+        crate::scene::SamplerKind::Corners => {
+            "5 samples per pixel (the centre + 4 corners shared with the neighbours)".to_string()
+        }
+        crate::scene::SamplerKind::Adaptive => format!(
+            "{own} samples in this pixel (4, split where they differ by more than {}, down to {} per pixel)",
+            r.adaptive_threshold, r.spp
+        ),
+        _ => format!("{} sample(s) per pixel", r.spp),
+    };
     let _ = writeln!(
         o,
-        "pixel ({}, {}) of {}: {} sample(s) per pixel, {} sampler, {} filter",
+        "pixel ({}, {}) of {}: {spp}, {} sampler, {} filter{}",
         e.pixel[0],
         e.pixel[1],
         scene.path.display(),
-        r.spp,
         r.sampler.name(),
-        r.filter.name()
+        r.filter.name(),
+        if r.subsample > 1 {
+            format!(", only every {}th pixel traced (--subsample)", r.subsample)
+        } else {
+            String::new()
+        }
     );
     let how = match r.encoding {
         Encoding::Clamp => "floor(255 · clamp(c, 0, 1))",

@@ -1,6 +1,7 @@
 //! One module per subcommand, each an args struct and a `run`. Options shared by every
 //! command that renders are one flattened group, [`RenderArgs`].
 
+pub mod compare;
 pub mod convert;
 pub mod explain;
 pub mod explain_text;
@@ -8,6 +9,7 @@ pub mod intersect;
 pub mod intersect_solids;
 pub mod lessons;
 pub mod render;
+pub mod samples;
 pub mod schema;
 pub mod steps;
 pub mod validate;
@@ -51,6 +53,10 @@ pub enum Command {
     /// The image built up step by step: visibility, normals, each lighting term, shadows,
     /// reflection depth by depth, refraction (frames, index.json, optional GIF).
     Steps(steps::Args),
+    /// Render at several sampling settings side by side, against a high-spp reference.
+    Compare(compare::Args),
+    /// Draw where each sampler puts its samples in a few pixels.
+    Samples(samples::Args),
 }
 
 /// Runs a parsed command line, writing what a command prints to `out` (stdout for the
@@ -65,6 +71,8 @@ pub fn run(cli: Cli, out: &mut dyn Write) -> Result<()> {
         Command::Convert(a) => convert::run(a, out),
         Command::Lessons(a) => lessons::run(a, out),
         Command::Steps(a) => steps::run(a, out),
+        Command::Compare(a) => compare::run(a, out),
+        Command::Samples(a) => samples::run(a, out),
     }
 }
 
@@ -92,6 +100,13 @@ pub struct RenderArgs {
     /// Reconstruction filter: box, tent, gaussian, mitchell.
     #[arg(long, value_name = "KIND")]
     pub filter: Option<String>,
+    /// Subsampling: trace only every K-th pixel in x and y and let the (stretched) filter
+    /// fill in the rest.
+    #[arg(long, value_name = "K")]
+    pub subsample: Option<u32>,
+    /// Adaptive sampler: split a cell when its samples differ by more than this (default 0.1).
+    #[arg(long, value_name = "T")]
+    pub adaptive_threshold: Option<f64>,
     /// Maximum recursion depth (0: ray casting, no reflection or refraction).
     #[arg(long, value_name = "D")]
     pub max_depth: Option<u32>,
@@ -154,6 +169,22 @@ impl RenderArgs {
                 )
             })?;
         }
+        if let Some(k) = self.subsample {
+            if !(1..=64).contains(&k) {
+                return Err(Error::arg(
+                    "--subsample",
+                    format!("{k} is out of range (1 traces every pixel; at most 64)"),
+                ));
+            }
+        }
+        if let Some(t) = self.adaptive_threshold {
+            if !(t.is_finite() && t >= 0.0) {
+                return Err(Error::arg(
+                    "--adaptive-threshold",
+                    format!("{t} is not a colour difference (expected a number ≥ 0, e.g. 0.1)"),
+                ));
+            }
+        }
         if let Some(e) = &self.encoding {
             if e != "clamp" && e != "srgb" {
                 return Err(Error::arg(
@@ -201,6 +232,12 @@ impl RenderArgs {
         crate::sampling::validate_spp(r.sampler, r.spp).map_err(|m| Error::arg("--spp", m))?;
         if let Some(d) = self.max_depth {
             r.max_depth = d;
+        }
+        if let Some(k) = self.subsample {
+            r.subsample = k;
+        }
+        if let Some(t) = self.adaptive_threshold {
+            r.adaptive_threshold = t;
         }
         if let Some(s) = self.seed {
             r.seed = s;

@@ -387,7 +387,7 @@ pub fn render_aov(scene: &Scene, base: &RenderSettings, aov: Aov) -> AovImage {
                 render_reconstruct(filter, x, y, w, h, |qx, qy| {
                     samples.pixels[(qy * w + qx) as usize]
                         .iter()
-                        .map(|(film, s)| (*film, aov.display(s, ranges)))
+                        .map(|(film, s)| (*film, aov.display(s, ranges), 1.0))
                         .collect()
                 })
                 .0

@@ -1,4 +1,4 @@
-use super::{pixel_samples, Filter};
+use super::{sample_pixel, Filter, PixelSample};
 use crate::scene::{Encoding, RenderSettings, Scene};
 use crate::trace::{trace_sample, Counter, NoRecorder, RayCounts, Recorder};
 use glam::{DVec2, DVec3};
@@ -65,13 +65,10 @@ pub struct RenderOutput {
     pub trace_seconds: f64,
     /// The first sample whose colour was not finite: (x, y, sample index).
     pub first_nan: Option<(u32, u32, u32)>,
-}
-
-/// A traced sample kept for reconstruction.
-#[derive(Debug, Clone, Copy)]
-struct Sample {
-    film: DVec2,
-    color: DVec3,
+    /// Samples each pixel traced, row-major (corner samples count for the pixel that owns
+    /// them; 0 for pixels skipped by `--subsample`). Always filled; it is the interesting one
+    /// for the adaptive sampler (draw it with [`crate::viz::heatmap::spp_heat_map`]).
+    pub spp_map: Option<Vec<u32>>,
 }
 
 /// Renders the scene. With `count`, a [`Counter`] records rays, tests and nodes per pixel;
@@ -113,7 +110,7 @@ fn render_with<R: Tally>(
     let (w, h) = (scene.camera.width, scene.camera.height);
     let start = Instant::now();
     type Row = (
-        Vec<Vec<Sample>>,
+        Vec<Vec<PixelSample>>,
         Vec<Option<(RayCounts, u64, u64)>>,
         Option<(u32, u32, u32)>,
     );
@@ -125,20 +122,15 @@ fn render_with<R: Tally>(
             let mut nan = None;
             for x in 0..w {
                 let mut rec = R::default();
-                let films = pixel_samples(settings.sampler, settings.spp, settings.seed, x, y);
-                let px: Vec<Sample> = films
-                    .iter()
-                    .enumerate()
-                    .map(|(k, &film)| {
-                        let r = trace_sample(scene, settings, x, y, k as u32, film, &mut rec);
-                        let mut color = r.color;
-                        if !color.is_finite() {
-                            nan.get_or_insert((x, y, k as u32));
-                            color = DVec3::ZERO;
-                        }
-                        Sample { film, color }
-                    })
-                    .collect();
+                let px = sample_pixel(settings, w, h, x, y, |k, film| {
+                    let r = trace_sample(scene, settings, x, y, k, film, &mut rec);
+                    if r.color.is_finite() {
+                        r.color
+                    } else {
+                        nan.get_or_insert((x, y, k));
+                        DVec3::ZERO
+                    }
+                });
                 samples.push(px);
                 stats.push(rec.into_stats());
             }
@@ -161,8 +153,9 @@ fn render_with<R: Tally>(
             st.cost.push(s.1 + s.2);
         }
     }
-    let grid: Vec<&Vec<Sample>> = rows.iter().flat_map(|r| r.0.iter()).collect();
-    let filter = Filter::new(settings.filter);
+    let grid: Vec<&Vec<PixelSample>> = rows.iter().flat_map(|r| r.0.iter()).collect();
+    let spp_map = Some(grid.iter().map(|s| s.len() as u32).collect());
+    let filter = Filter::for_settings(settings);
     let pixels = (0..h)
         .into_par_iter()
         .flat_map_iter(|y| {
@@ -171,7 +164,7 @@ fn render_with<R: Tally>(
                 reconstruct(&filter, x, y, w, h, |qx, qy| {
                     grid[(qy * w + qx) as usize]
                         .iter()
-                        .map(|s| (s.film, s.color))
+                        .map(|s| (s.film, s.color, s.area))
                         .collect()
                 })
                 .0
@@ -187,20 +180,24 @@ fn render_with<R: Tally>(
         stats,
         trace_seconds,
         first_nan,
+        spp_map,
     }
 }
 
 // ANCHOR: reconstruct
 /// Pixel (x, y) as the filter-weighted mean of every sample within the filter's reach,
-/// neighbours' samples included: Σ w(s − centre)·c(s) / Σ w. Returns the colour and the
-/// weight given to each sample, pixel by pixel (for `explain`).
+/// neighbours' samples included: Σ w(s − centre)·a(s)·c(s) / Σ w·a, where a(s) is the share
+/// of the film the sample stands for (1, except for the adaptive sampler's cells).
+/// `samples_of(qx, qy)` gives the (film, colour, area) of the samples pixel q owns. Returns the
+/// colour and the normalised weight of each sample, pixel by pixel (for `explain`). Pixels are
+/// visited in a fixed order, so the sum is the same on any number of threads.
 pub fn reconstruct(
     filter: &Filter,
     x: u32,
     y: u32,
     width: u32,
     height: u32,
-    samples_of: impl Fn(u32, u32) -> Vec<(DVec2, DVec3)>,
+    samples_of: impl Fn(u32, u32) -> Vec<(DVec2, DVec3, f64)>,
 ) -> (DVec3, Vec<(u32, u32, usize, f64)>) {
     let centre = DVec2::new(x as f64 + 0.5, y as f64 + 0.5);
     let reach = filter.reach();
@@ -208,9 +205,10 @@ pub fn reconstruct(
     let mut weights = Vec::new();
     for qy in (y as i64 - reach).max(0)..=(y as i64 + reach).min(height as i64 - 1) {
         for qx in (x as i64 - reach).max(0)..=(x as i64 + reach).min(width as i64 - 1) {
-            for (k, (film, color)) in samples_of(qx as u32, qy as u32).into_iter().enumerate() {
+            for (k, (film, color, area)) in samples_of(qx as u32, qy as u32).into_iter().enumerate()
+            {
                 let d = film - centre;
-                let w = filter.weight(d.x, d.y);
+                let w = filter.weight(d.x, d.y) * area;
                 if w != 0.0 {
                     sum += w * color;
                     total += w;

@@ -9,4 +9,4 @@ pub use film::{
     encode, reconstruct as render_reconstruct, render, Image, RenderOutput, RenderStats,
 };
 pub use filter::Filter;
-pub use sampler::{pixel_samples, validate_spp};
+pub use sampler::{pixel_samples, sample_pixel, traces_samples, validate_spp, PixelSample};

@@ -1,8 +1,13 @@
-use crate::math::Rng;
-use crate::scene::SamplerKind;
-use glam::DVec2;
+//! Where a pixel's samples go. Every position and every random number of a sample depends only
+//! on (seed, pixel, sample index), so one sample can be replayed alone (`explain --sample k`)
+//! and the image is the same on any number of threads.
 
-/// Checks that `spp` suits the sampler (grids need a square number).
+use crate::math::Rng;
+use crate::scene::{RenderSettings, SamplerKind};
+use glam::{DVec2, DVec3};
+
+/// Checks that `spp` suits the sampler (grids need a square number, the adaptive sampler a
+/// power of four: its finest level is a 2ᵏ×2ᵏ grid).
 pub fn validate_spp(kind: SamplerKind, spp: u32) -> Result<(), String> {
     if spp == 0 {
         return Err("samples per pixel must be at least 1".into());
@@ -21,18 +26,41 @@ pub fn validate_spp(kind: SamplerKind, spp: u32) -> Result<(), String> {
             ));
         }
     }
+    if kind == SamplerKind::Adaptive
+        && !(spp.is_power_of_two() && spp.trailing_zeros().is_multiple_of(2))
+    {
+        return Err(format!(
+            "the adaptive sampler needs a power of four (1, 4, 16, 64, 256): the finest grid it \
+             refines to, found {spp}"
+        ));
+    }
     Ok(())
 }
 
+/// One traced sample a pixel owns.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PixelSample {
+    /// Its index within the pixel that owns it: the key of its random numbers.
+    pub index: u32,
+    /// Film position in pixel units (x right, y down).
+    pub film: DVec2,
+    /// The share of the film it stands for, multiplied into its filter weight: 1 for the
+    /// fixed patterns, the area of its cell for the adaptive sampler.
+    pub area: f64,
+    pub color: DVec3,
+}
+
 // ANCHOR: samplers
-/// The film positions (pixel units, y down) of every sample of pixel (x, y), in sample-index
-/// order. Random positions come from (seed, pixel, sample index) alone, so any one sample can
-/// be replayed without the others.
+/// The film positions of the fixed sampling patterns for pixel (x, y), in sample-index order.
+/// Random positions come from (seed, pixel, sample index) alone. `Corners` lists the centre
+/// and all four corners (which of them a pixel traces itself: [`sample_pixel`]); `Adaptive`
+/// lists its first level, the 2×2 grid.
 pub fn pixel_samples(kind: SamplerKind, spp: u32, seed: u64, x: u32, y: u32) -> Vec<DVec2> {
     let corner = DVec2::new(x as f64, y as f64);
     let rng = |k: u32| Rng::new(&[seed, x as u64, y as u64, k as u64, 0x5A3B]);
     match kind {
         SamplerKind::Center => vec![corner + DVec2::splat(0.5)],
+        // n×n strata; grid takes each stratum's centre, jittered a random point inside it.
         SamplerKind::Grid | SamplerKind::Jittered => {
             let n = (spp as f64).sqrt().round() as u32;
             (0..n * n)
@@ -48,14 +76,13 @@ pub fn pixel_samples(kind: SamplerKind, spp: u32, seed: u64, x: u32, y: u32) -> 
                 })
                 .collect()
         }
+        // Anywhere in the pixel: clumps and gaps, but no regular pattern to alias with.
         SamplerKind::Random => (0..spp)
             .map(|k| {
                 let mut r = rng(k);
                 corner + DVec2::new(r.next_f64(), r.next_f64())
             })
             .collect(),
-        // Corner samples lie on the pixel's border and are shared with the neighbours; the
-        // centre is the pixel's own. Sample 0 is the centre, 1..4 the corners.
         SamplerKind::Corners => vec![
             corner + DVec2::splat(0.5),
             corner,
@@ -63,14 +90,184 @@ pub fn pixel_samples(kind: SamplerKind, spp: u32, seed: u64, x: u32, y: u32) -> 
             corner + DVec2::new(0.0, 1.0),
             corner + DVec2::new(1.0, 1.0),
         ],
-        SamplerKind::Adaptive => vec![corner + DVec2::splat(0.5)],
+        SamplerKind::Adaptive => [(0.25, 0.25), (0.75, 0.25), (0.25, 0.75), (0.75, 0.75)]
+            .iter()
+            .map(|&(u, v)| corner + DVec2::new(u, v))
+            .collect(),
     }
 }
 // ANCHOR_END: samplers
 
+// ANCHOR: subsample
+/// Does pixel (x, y) of a `width`×`height` image trace samples at all? With `--subsample K`
+/// only every K-th column and row do, plus the last column and row so that the border has
+/// samples to reconstruct from; the filter, stretched K times, fills in the others.
+pub fn traces_samples(settings: &RenderSettings, width: u32, height: u32, x: u32, y: u32) -> bool {
+    let k = settings.subsample.max(1);
+    (x.is_multiple_of(k) || x + 1 == width) && (y.is_multiple_of(k) || y + 1 == height)
+}
+// ANCHOR_END: subsample
+
+// ANCHOR: corners
+/// The corner samples pixel (x, y) traces itself: its top-left corner, and the corners on the
+/// image's right and bottom border that no pixel further right or down can own. Every corner
+/// of the image is thus traced exactly once and shared by the (up to) four pixels around it.
+fn owned_corners(x: u32, y: u32, width: u32, height: u32) -> Vec<DVec2> {
+    let c = DVec2::new(x as f64, y as f64);
+    let (right, bottom) = (x + 1 == width, y + 1 == height);
+    let mut v = vec![c];
+    if right {
+        v.push(c + DVec2::new(1.0, 0.0));
+    }
+    if bottom {
+        v.push(c + DVec2::new(0.0, 1.0));
+    }
+    if right && bottom {
+        v.push(c + DVec2::new(1.0, 1.0));
+    }
+    v
+}
+// ANCHOR_END: corners
+
+/// Traces the samples pixel (x, y) of a `width`×`height` image owns, calling `trace(index,
+/// film)` for each in index order. Fixed patterns are planned up front; the adaptive sampler
+/// decides where to look next from the colours `trace` returns, so `render` and `explain`,
+/// which pass different tracers, take the same decisions.
+pub fn sample_pixel(
+    settings: &RenderSettings,
+    width: u32,
+    height: u32,
+    x: u32,
+    y: u32,
+    mut trace: impl FnMut(u32, DVec2) -> DVec3,
+) -> Vec<PixelSample> {
+    if !traces_samples(settings, width, height, x, y) {
+        return Vec::new();
+    }
+    let films = match settings.sampler {
+        SamplerKind::Adaptive => return adaptive(settings, x, y, trace),
+        SamplerKind::Corners => {
+            let mut v = vec![DVec2::new(x as f64 + 0.5, y as f64 + 0.5)];
+            v.extend(owned_corners(x, y, width, height));
+            v
+        }
+        kind => pixel_samples(kind, settings.spp, settings.seed, x, y),
+    };
+    films
+        .into_iter()
+        .enumerate()
+        .map(|(k, film)| PixelSample {
+            index: k as u32,
+            film,
+            area: 1.0,
+            color: trace(k as u32, film),
+        })
+        .collect()
+}
+
+// ANCHOR: adaptive
+/// Adaptive sampling: trace the 2×2 grid of the pixel; where a cell's samples disagree by more
+/// than `adaptive_threshold` (largest channel difference), split every cell of that group into
+/// four and trace their centres, down to the `spp` grid (√spp × √spp). A split cell keeps its
+/// own sample: the cell's area is shared by it and its four children, a fifth each. Flat pixels
+/// cost 4 samples; an edge pixel at `--spp 16` costs 4 + 16.
+fn adaptive(
+    settings: &RenderSettings,
+    x: u32,
+    y: u32,
+    mut trace: impl FnMut(u32, DVec2) -> DVec3,
+) -> Vec<PixelSample> {
+    let corner = DVec2::new(x as f64, y as f64);
+    let finest = (settings.spp as f64).sqrt().round().max(1.0); // cells per side at the end
+    let mut out = Vec::new();
+    if finest < 2.0 {
+        let film = corner + DVec2::splat(0.5);
+        out.push(PixelSample {
+            index: 0,
+            film,
+            area: 1.0,
+            color: trace(0, film),
+        });
+        return out;
+    }
+    // The whole pixel is a cell of size 1 whose four children are always traced.
+    refine(
+        settings, corner, 1.0, 1.0, finest, None, &mut trace, &mut out,
+    );
+    out
+}
+
+/// Traces the four children of the square cell at `origin` with side `size`, then splits them
+/// again if they (with the parent's own sample, when there is one) disagree. `share` is the
+/// area the children split among them.
+#[allow(clippy::too_many_arguments)]
+fn refine(
+    settings: &RenderSettings,
+    origin: DVec2,
+    size: f64,
+    share: f64,
+    finest: f64,
+    parent: Option<DVec3>,
+    trace: &mut impl FnMut(u32, DVec2) -> DVec3,
+    out: &mut Vec<PixelSample>,
+) {
+    let half = size / 2.0;
+    let first = out.len();
+    for (i, j) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)] {
+        let film = origin + DVec2::new(i + 0.5, j + 0.5) * half;
+        let index = out.len() as u32;
+        let color = trace(index, film);
+        out.push(PixelSample {
+            index,
+            film,
+            area: share / 4.0,
+            color,
+        });
+    }
+    let colors: Vec<DVec3> = out[first..first + 4]
+        .iter()
+        .map(|s| s.color)
+        .chain(parent)
+        .collect();
+    let (lo, hi) = colors.iter().fold(
+        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+        |(lo, hi), c| (lo.min(*c), hi.max(*c)),
+    );
+    let disagree = (hi - lo).max_element() > settings.adaptive_threshold;
+    if disagree && 1.0 / half < finest {
+        for c in 0..4 {
+            // Child c now shares its area with its own four children: a fifth each.
+            let s = out[first + c];
+            out[first + c].area = s.area / 5.0;
+            let child_origin = s.film - DVec2::splat(half / 2.0);
+            refine(
+                settings,
+                child_origin,
+                half,
+                s.area * 4.0 / 5.0,
+                finest,
+                Some(s.color),
+                trace,
+                out,
+            );
+        }
+    }
+}
+// ANCHOR_END: adaptive
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn settings(kind: SamplerKind, spp: u32) -> RenderSettings {
+        RenderSettings {
+            sampler: kind,
+            spp,
+            seed: 7,
+            ..RenderSettings::default()
+        }
+    }
+
     #[test]
     fn samples_stay_in_their_pixel_and_strata() {
         for kind in [
@@ -95,5 +292,61 @@ mod tests {
         }
         assert!(validate_spp(SamplerKind::Grid, 8).is_err());
         assert!(validate_spp(SamplerKind::Random, 0).is_err());
+        assert!(validate_spp(SamplerKind::Adaptive, 8).is_err());
+        assert!(validate_spp(SamplerKind::Adaptive, 16).is_ok());
+    }
+
+    #[test]
+    fn every_corner_is_traced_once() {
+        let s = settings(SamplerKind::Corners, 5);
+        let (w, h) = (4, 3);
+        let mut corners = std::collections::BTreeMap::new();
+        for y in 0..h {
+            for x in 0..w {
+                let got = sample_pixel(&s, w, h, x, y, |_, _| DVec3::ZERO);
+                assert_eq!(got[0].film, DVec2::new(x as f64 + 0.5, y as f64 + 0.5));
+                for p in &got[1..] {
+                    *corners
+                        .entry((p.film.x as u32, p.film.y as u32))
+                        .or_insert(0) += 1;
+                }
+            }
+        }
+        assert_eq!(corners.len(), ((w + 1) * (h + 1)) as usize);
+        assert!(corners.values().all(|&n| n == 1));
+    }
+
+    #[test]
+    fn adaptive_refines_only_where_samples_disagree() {
+        let s = settings(SamplerKind::Adaptive, 16);
+        // A flat pixel: the first 2×2 level only.
+        let flat = sample_pixel(&s, 8, 8, 2, 2, |_, _| DVec3::splat(0.5));
+        assert_eq!(flat.len(), 4);
+        // An edge at x = 2.3 through pixel 2: everything refines to the 4×4 grid.
+        let edge = sample_pixel(&s, 8, 8, 2, 2, |_, f| {
+            DVec3::splat(if f.x < 2.3 { 0.0 } else { 1.0 })
+        });
+        assert_eq!(edge.len(), 4 + 16);
+        let area: f64 = edge.iter().map(|p| p.area).sum();
+        assert!((area - 1.0).abs() < 1e-12, "areas add to the pixel: {area}");
+        for p in &edge {
+            assert!(p.film.x > 2.0 && p.film.x < 3.0 && p.film.y > 2.0 && p.film.y < 3.0);
+        }
+        let idx: Vec<u32> = edge.iter().map(|p| p.index).collect();
+        assert_eq!(idx, (0..20).collect::<Vec<_>>());
+    }
+
+    #[test]
+    fn subsampling_traces_one_pixel_in_k_by_k() {
+        let s = RenderSettings {
+            subsample: 2,
+            ..settings(SamplerKind::Center, 1)
+        };
+        // Columns and rows 0, 2, 4 and the last one, 5.
+        let n: usize = (0..6)
+            .flat_map(|y| (0..6).map(move |x| (x, y)))
+            .map(|(x, y)| sample_pixel(&s, 6, 6, x, y, |_, _| DVec3::ZERO).len())
+            .sum();
+        assert_eq!(n, 16);
     }
 }

@@ -115,6 +115,12 @@ pub struct RenderSettings {
     pub clamp_each_ray: bool,
     /// Offset for spawned rays, along the surface normal (scaled by the scene's size).
     pub epsilon: f64,
+    /// Subsampling: only every K-th pixel in x and y traces samples; the filter, stretched K
+    /// times, reconstructs the rest (1: every pixel).
+    pub subsample: u32,
+    /// The adaptive sampler splits a cell when its samples differ by more than this (largest
+    /// channel difference, linear colour).
+    pub adaptive_threshold: f64,
 }
 
 impl Default for RenderSettings {
@@ -139,6 +145,8 @@ impl Default for RenderSettings {
             accel: AccelKind::Bvh,
             clamp_each_ray: false,
             epsilon: 1e-7,
+            subsample: 1,
+            adaptive_threshold: 0.1,
         }
     }
 }

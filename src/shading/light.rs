@@ -105,6 +105,8 @@ impl Light {
                 edge_v,
                 samples,
             } => {
+                // Stratified: sample k lies in cell (k mod nu, k div nu) of the light's grid,
+                // jittered by the camera sample's own random stream, so `explain` replays it.
                 let (nu, nv) = (samples[0] as usize, samples[1] as usize);
                 let (i, j) = (k % nu, k / nu);
                 let su = (i as f64 + rng.next_f64()) / nu as f64;

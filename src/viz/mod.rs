@@ -9,6 +9,9 @@ pub mod labels;
 pub mod slice;
 pub mod steps;
 pub mod solids;
+pub mod compare;
+pub mod heatmap;
+pub mod samples;
 pub mod style;
 
 pub use canvas::{Anchor, Canvas, Prim};

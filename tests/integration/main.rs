@@ -7,6 +7,7 @@ mod csg;
 mod explain;
 mod intersect;
 mod render;
+mod sampling;
 mod shading;
 mod shapes;
 mod steps;
