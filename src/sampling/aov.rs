@@ -30,6 +30,8 @@ pub enum Aov {
     Shadow,
     RayDepth,
     Cost,
+    /// Samples the sampler spent per pixel (the adaptive sampler's map).
+    Spp,
 }
 
 impl Aov {
@@ -90,6 +92,11 @@ impl Aov {
             Aov::Cost,
             "cost",
             "intersection tests + BVH nodes visited per pixel",
+        ),
+        (
+            Aov::Spp,
+            "spp",
+            "samples traced per pixel (the adaptive sampler spends more on edges)",
         ),
     ];
 
@@ -173,6 +180,8 @@ impl Aov {
             },
             Aov::RayDepth => heat(s.ray_depth as f64 / r.max_depth.max(1) as f64),
             Aov::Cost => heat(s.cost as f64 / r.max_cost.max(1) as f64),
+            // Drawn per pixel from the render's own count (see `render_aov`).
+            Aov::Spp => DVec3::ZERO,
         }
     }
 }
@@ -347,6 +356,21 @@ pub struct AovImage {
 /// Renders one AOV of the scene as an image.
 pub fn render_aov(scene: &Scene, base: &RenderSettings, aov: Aov) -> AovImage {
     let settings = aov.settings(base);
+    if aov == Aov::Spp {
+        // The real render: the count is a property of the sampler, not of one AOV sample.
+        let out = super::render(scene, &settings, false, None);
+        let (w, h) = (scene.camera.width, scene.camera.height);
+        let spp = out.spp_map.unwrap_or_else(|| vec![settings.spp; (w * h) as usize]);
+        let max = spp.iter().copied().max().unwrap_or(0);
+        let image = crate::viz::heatmap::spp_heat_map(&spp, w, h, max);
+        let legend = format!(
+            "{}: {}\nheat map, black: 0 to white: {} samples per pixel",
+            aov.name(),
+            aov.describe(),
+            max
+        );
+        return AovImage { aov, image, legend };
+    }
     let samples = trace_aov_samples(scene, &settings);
     let (w, h) = (samples.width, samples.height);
 

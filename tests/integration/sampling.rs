@@ -409,3 +409,25 @@ fn samples_figure_and_explain_sample_checks() {
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("has 20 sample(s)"), "{}", stderr(&o));
 }
+
+/// `--aov spp`: the adaptive sampler's map varies (edges get more), a fixed pattern's does not.
+#[test]
+fn spp_aov_shows_where_the_adaptive_sampler_spent_its_samples() {
+    use rtlab::sampling::aov::{render_aov, Aov};
+    use rtlab::scene::SamplerKind;
+    let mut scene = rtlab::scene::Scene::load(&path("scenes/aliasing.json")).unwrap();
+    scene.camera.update_size(40, 30);
+    let mut s = scene.render.clone();
+    s.spp = 16;
+    s.sampler = SamplerKind::Adaptive;
+    let adaptive = render_aov(&scene, &s, Aov::Spp).image;
+    let distinct = |img: &image::RgbImage| {
+        let mut v: Vec<[u8; 3]> = img.pixels().map(|p| p.0).collect();
+        v.sort();
+        v.dedup();
+        v.len()
+    };
+    assert!(distinct(&adaptive) > 1, "adaptive spp map is flat");
+    s.sampler = SamplerKind::Grid;
+    assert_eq!(distinct(&render_aov(&scene, &s, Aov::Spp).image), 1);
+}
