@@ -14,6 +14,16 @@ pub fn check_writable(path: &Path, arg: &str) -> Result<()> {
         ));
     }
     let dir = parent(path);
+    if dir.exists() && !dir.is_dir() {
+        return Err(Error::arg(
+            arg,
+            format!(
+                "cannot write {}: {} is a file, not a folder",
+                path.display(),
+                dir.display()
+            ),
+        ));
+    }
     if !dir.is_dir() {
         return Err(Error::arg(
             arg,
@@ -35,7 +45,9 @@ fn parent(path: &Path) -> &Path {
 }
 
 /// Writes `bytes` to `path` atomically.
+/// Refuses to write at all once Ctrl-C was pressed ([`crate::interrupt`]).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    crate::interrupt::check()?;
     let dir = parent(path);
     let mut tmp = tempfile::Builder::new()
         .prefix(".rtlab-")
@@ -45,6 +57,7 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     tmp.write_all(bytes)
         .map_err(|e| Error::io(path, format!("cannot write: {e}")))?;
     tmp.as_file().sync_all().ok();
+    crate::interrupt::check()?; // the temporary file is removed when `tmp` drops
     tmp.persist(path)
         .map_err(|e| Error::io(path, format!("cannot write: {}", e.error)))?;
     Ok(())

@@ -2,7 +2,10 @@
 
 mod book;
 mod common;
+mod errors;
 mod explain;
+mod props;
 mod render;
+mod robust;
 mod shading;
 mod shapes;
