@@ -53,14 +53,33 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
         .prefix(".rtlab-")
         .suffix(".tmp")
         .tempfile_in(dir)
-        .map_err(|e| Error::io(path, format!("cannot write: {e}")))?;
+        .map_err(|e| {
+            Error::io(
+                path,
+                format!(
+                    "cannot write into the folder {}: {}",
+                    dir.display(),
+                    reason(&e)
+                ),
+            )
+        })?;
     tmp.write_all(bytes)
-        .map_err(|e| Error::io(path, format!("cannot write: {e}")))?;
+        .map_err(|e| Error::io(path, format!("cannot write: {}", reason(&e))))?;
     tmp.as_file().sync_all().ok();
     crate::interrupt::check()?; // the temporary file is removed when `tmp` drops
     tmp.persist(path)
-        .map_err(|e| Error::io(path, format!("cannot write: {}", e.error)))?;
+        .map_err(|e| Error::io(path, format!("cannot write: {}", reason(&e.error))))?;
     Ok(())
+}
+
+/// Why an I/O operation failed, without the temporary file's random name (which would make
+/// the message differ from run to run).
+fn reason(e: &std::io::Error) -> String {
+    match (e.kind(), e.raw_os_error()) {
+        (std::io::ErrorKind::PermissionDenied, _) => "permission denied".into(),
+        (_, Some(code)) => std::io::Error::from_raw_os_error(code).to_string(),
+        _ => e.kind().to_string(),
+    }
 }
 
 /// Encodes an RGB image as PNG and writes it atomically.

@@ -346,7 +346,7 @@ fn cases() -> Vec<Case> {
             "mesh file missing",
             vec![("scene.json", obj(r#"{"shape": "mesh", "file": "gone.obj"}"#))],
             r(),
-            vec!["gone.obj", "cannot read mesh", "no such file"],
+            vec!["scene.json: objects[0].file: gone.obj", "cannot read mesh", "no such file"],
         ),
         c("empty OBJ file", mesh(b""), r(), vec!["m.obj", "no triangles"]),
         c(
@@ -380,7 +380,7 @@ fn cases() -> Vec<Case> {
                 ("meshes/x", vec![]),
             ],
             r(),
-            vec!["meshes", "is a directory, expected an OBJ mesh file"],
+            vec!["scene.json: objects[0].file: meshes", "is a directory, expected an OBJ mesh file"],
         ),
         // ---- textures
         c(
@@ -390,9 +390,20 @@ fn cases() -> Vec<Case> {
                 scene("", r#"{"shape": "sphere", "material": {"texture": {"file": "t.png"}}}"#),
             )],
             r(),
-            vec!["t.png", "cannot read texture", "no such file"],
+            vec!["scene.json: objects[0].material.texture.file: t.png", "cannot read texture", "no such file"],
         ),
-        c("empty texture file", texture(b""), r(), vec!["t.png", "the texture file is empty"]),
+        c(
+            "empty texture file",
+            texture(b""),
+            r(),
+            vec!["objects[0].material.texture.file: t.png", "the texture file is empty"],
+        ),
+        c(
+            "empty file name",
+            s(obj(r#"{"shape": "mesh", "file": ""}"#)),
+            r(),
+            vec!["scene.json: objects[0].file", "expected a file name, found an empty string"],
+        ),
         c(
             "texture that is not an image",
             texture(b"hello, I am text"),
@@ -423,6 +434,12 @@ fn cases() -> Vec<Case> {
             vec![("scene.json", obj(SPHERE)), ("notes.txt", b"x".to_vec())],
             vec!["render", "scene.json", "-o", "notes.txt/out.png", "--quiet"],
             vec!["argument -o", "notes.txt", "not a folder"],
+        ),
+        c(
+            "output folder that refuses new files",
+            s(obj(SPHERE)),
+            vec!["render", "scene.json", "-o", "/proc/rtlab-test.png", "--quiet"],
+            vec!["/proc/rtlab-test.png", "cannot write into the folder /proc"],
         ),
         c(
             "output format rtlab cannot write",
@@ -591,8 +608,11 @@ fn run_cases() -> Vec<(String, String, String)> {
             ));
         }
         let _ = std::fs::remove_dir_all(&dir);
-        // clap's usage errors are several lines: the table shows the first.
-        let first = msg.lines().next().unwrap_or("").to_string();
+        // clap's usage errors are several lines: the table shows the first and clap's tip.
+        let mut first = msg.lines().next().unwrap_or("").to_string();
+        if let Some(tip) = msg.lines().find_map(|l| l.trim().strip_prefix("tip: ")) {
+            first += &format!(" (tip: {tip})");
+        }
         rows.push((case.kind.to_string(), case.args.join(" "), first));
     }
     assert!(
