@@ -75,10 +75,16 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
 /// Why an I/O operation failed, without the temporary file's random name (which would make
 /// the message differ from run to run).
 fn reason(e: &std::io::Error) -> String {
-    match (e.kind(), e.raw_os_error()) {
-        (std::io::ErrorKind::PermissionDenied, _) => "permission denied".into(),
-        (_, Some(code)) => std::io::Error::from_raw_os_error(code).to_string(),
-        _ => e.kind().to_string(),
+    use std::io::ErrorKind as K;
+    match e.kind() {
+        K::PermissionDenied => "permission denied".into(),
+        K::NotFound => "no such file or directory".into(),
+        K::ReadOnlyFilesystem => "read-only file system".into(),
+        K::StorageFull => "no space left on device".into(),
+        _ => match e.raw_os_error() {
+            Some(code) => std::io::Error::from_raw_os_error(code).to_string(),
+            None => e.kind().to_string(),
+        },
     }
 }
 
