@@ -50,7 +50,8 @@ fn check<S: Strategy>(
         test(v)
     });
     if let Err(e) = result {
-        panic!("property {name} failed: {e}");
+        // Debug shows the shrunk input as well as the reason.
+        panic!("property {name} failed: {e:?}");
     }
     eprintln!(
         "property {name}: {} cases, none panicked or failed",
@@ -392,7 +393,7 @@ fn command_lines_never_panic() {
     std::fs::create_dir_all(&dir).unwrap();
     let scene = cli_scene(&dir).display().to_string();
     let out = dir.join("o.png").display().to_string();
-    let scenes = vec![
+    let scenes = [
         scene.clone(),
         dir.display().to_string(),
         "missing.json".to_string(),
@@ -615,6 +616,7 @@ fn rays_aimed_at_edges_and_rims_do_not_slip_through() {
     ];
     // (u, v, which edge/rim) pick the target point on the surface
     let pick = (0.0..1.0f64, 0.0..1.0f64, any::<u8>());
+    let worst = Cell::new(0.0f64);
     check(
         "edges_and_rims",
         4096,
@@ -661,9 +663,23 @@ fn rays_aimed_at_edges_and_rims_do_not_slip_through() {
                 hit.is_some(),
                 "{shape:?}: the ray aimed at {target} from {o} slipped through"
             );
-            prop_assert!(hit.unwrap().t <= 1.0 + 1e-9);
+            let h = hit.unwrap();
+            worst.set(worst.get().max(h.t - 1.0));
+            // A ray nearly tangent to a curved surface loses about half its digits of t
+            // (b² − 4ac cancels): seeds 3 and 4 found t = 1 + 4.4e-6 and 1 + 2.2e-7 on a
+            // sphere 200 radii away. A hit on the far side of a solid lies farther beyond.
+            prop_assert!(
+                h.t <= 1.0 + 1e-4,
+                "{shape:?}: aimed at {target} from {o}, hit {} at t = {} (beyond the target)",
+                h.surface,
+                h.t
+            );
             Ok(())
         },
+    );
+    eprintln!(
+        "property edges_and_rims: the farthest hit lay {:.1e} (in t) beyond its target",
+        worst.get()
     );
 }
 
