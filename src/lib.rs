@@ -24,6 +24,7 @@ pub mod accel;
 pub mod camera;
 pub mod cli;
 pub mod error;
+pub mod interrupt;
 pub mod lessons;
 pub mod math;
 pub mod output;

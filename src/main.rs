@@ -5,9 +5,15 @@ use clap::Parser;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
+    rtlab::interrupt::install();
     let cli = rtlab::cli::Cli::parse(); // usage errors exit with status 2 from clap
     match rtlab::cli::run(cli, &mut std::io::stdout().lock()) {
         Ok(()) => ExitCode::SUCCESS,
+        // Ctrl-C: 128 + SIGINT, what a shell reports for a program the signal stopped.
+        Err(e) if rtlab::interrupt::requested() => {
+            eprintln!("error: {e}");
+            ExitCode::from(130)
+        }
         Err(e) => {
             eprintln!("error: {e}");
             ExitCode::from(2)

@@ -14,6 +14,16 @@ pub fn check_writable(path: &Path, arg: &str) -> Result<()> {
         ));
     }
     let dir = parent(path);
+    if dir.exists() && !dir.is_dir() {
+        return Err(Error::arg(
+            arg,
+            format!(
+                "cannot write {}: {} is a file, not a folder",
+                path.display(),
+                dir.display()
+            ),
+        ));
+    }
     if !dir.is_dir() {
         return Err(Error::arg(
             arg,
@@ -35,7 +45,9 @@ fn parent(path: &Path) -> &Path {
 }
 
 /// Writes `bytes` to `path` atomically.
+/// Refuses to write at all once Ctrl-C was pressed ([`crate::interrupt`]).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    crate::interrupt::check()?;
     let dir = parent(path);
     let mut builder = tempfile::Builder::new();
     builder.prefix(".rtlab-").suffix(".tmp");
@@ -48,13 +60,39 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     }
     let mut tmp = builder
         .tempfile_in(dir)
-        .map_err(|e| Error::io(path, format!("cannot write: {e}")))?;
+        .map_err(|e| {
+            Error::io(
+                path,
+                format!(
+                    "cannot write into the folder {}: {}",
+                    dir.display(),
+                    reason(&e)
+                ),
+            )
+        })?;
     tmp.write_all(bytes)
-        .map_err(|e| Error::io(path, format!("cannot write: {e}")))?;
+        .map_err(|e| Error::io(path, format!("cannot write: {}", reason(&e))))?;
     tmp.as_file().sync_all().ok();
+    crate::interrupt::check()?; // the temporary file is removed when `tmp` drops
     tmp.persist(path)
-        .map_err(|e| Error::io(path, format!("cannot write: {}", e.error)))?;
+        .map_err(|e| Error::io(path, format!("cannot write: {}", reason(&e.error))))?;
     Ok(())
+}
+
+/// Why an I/O operation failed, without the temporary file's random name (which would make
+/// the message differ from run to run).
+fn reason(e: &std::io::Error) -> String {
+    use std::io::ErrorKind as K;
+    match e.kind() {
+        K::PermissionDenied => "permission denied".into(),
+        K::NotFound => "no such file or directory".into(),
+        K::ReadOnlyFilesystem => "read-only file system".into(),
+        K::StorageFull => "no space left on device".into(),
+        _ => match e.raw_os_error() {
+            Some(code) => std::io::Error::from_raw_os_error(code).to_string(),
+            None => e.kind().to_string(),
+        },
+    }
 }
 
 /// Encodes an RGB image as PNG and writes it atomically.

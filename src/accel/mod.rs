@@ -84,6 +84,8 @@ impl Accel {
 
     // ANCHOR: closest
     /// The closest hit with t in [t_min, t_max]: each test narrows t_max to the best t so far.
+    /// Equal t (coincident surfaces) goes to the lower object index, whatever order the
+    /// objects were tested in, so the linear loop and the BVH always pick the same object.
     pub fn closest<R: Recorder>(
         &self,
         objects: &[Object],
@@ -92,22 +94,31 @@ impl Accel {
         mut t_max: f64,
         rec: &mut R,
     ) -> Option<(usize, LocalHit)> {
-        let mut best = None;
+        let mut best: Option<(usize, LocalHit)> = None;
+        let mut key: Option<(f64, usize)> = None;
         for &i in &self.unbounded {
             if let Some(h) = test_object(objects, i, ray, t_min, t_max, rec) {
-                t_max = h.t;
-                best = Some((i, h));
+                if precedes((h.t, i), key) {
+                    t_max = h.t;
+                    key = Some((h.t, i));
+                    best = Some((i, h));
+                }
             }
         }
         if self.bvh.nodes.is_empty() {
             return best;
         }
         let mut visited = 0;
+        // The BVH keeps what the closure returns, so return only hits that beat the best.
         let found = self
             .bvh
             .closest_counted(ray, t_min, t_max, &mut visited, |p, t_max| {
                 let i = self.bounded[p];
-                test_object(objects, i, ray, t_min, t_max, rec).map(|h| (h.t, h))
+                let h = test_object(objects, i, ray, t_min, t_max, rec)?;
+                precedes((h.t, i), key).then(|| {
+                    key = Some((h.t, i));
+                    (h.t, h)
+                })
             });
         rec.nodes_visited(visited);
         found.map(|(p, _, h)| (self.bounded[p], h)).or(best)
@@ -142,5 +153,15 @@ impl Accel {
         });
         rec.nodes_visited(visited);
         found
+    }
+}
+
+/// Does a hit (t, object index) come before the best so far? Closer first; on equal t the
+/// lower object index, so the answer does not depend on the order objects were tested in.
+#[inline]
+fn precedes((t, i): (f64, usize), best: Option<(f64, usize)>) -> bool {
+    match best {
+        None => true,
+        Some((bt, bi)) => t < bt || (t == bt && i < bi),
     }
 }

@@ -93,6 +93,15 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
     }
     let t0 = Instant::now();
     let scene = args.render.load(&args.scene)?;
+    let (w, h, spp) = (scene.camera.width, scene.camera.height, scene.render.spp);
+    crate::sampling::check_memory(w, h, spp).map_err(|m| {
+        let r = &args.render;
+        if r.width.is_some() || r.height.is_some() || r.spp.is_some() {
+            Error::arg("--width/--height/--spp", m)
+        } else {
+            Error::input(&args.scene, "camera", m)
+        }
+    })?;
     let load = t0.elapsed().as_secs_f64();
     // The accelerator is built during load; time it separately for the stats.
     let t1 = Instant::now();
@@ -119,9 +128,11 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
     if let Some(b) = bar {
         b.finish_and_clear();
     }
+    crate::interrupt::check()?;
     if let Some((x, y, k)) = result.first_nan {
         eprintln!(
-            "warning: sample {k} of pixel ({x}, {y}) came out as NaN or infinity and was counted as black; this is a bug in rtlab. \
+            "warning: sample {k} of pixel ({x}, {y}) came out as NaN or infinity and was counted as black \
+             (reflective or transparent colours above 1 amplify light at every bounce and can overflow; otherwise this is a bug in rtlab). \
              Reproduce it with: rtlab explain {} --pixel {x},{y} --sample {k}",
             args.scene.display()
         );

@@ -117,6 +117,10 @@ fn render_with<R: Tally>(
     let rows: Vec<Row> = (0..h)
         .into_par_iter()
         .map(|y| {
+            if crate::interrupt::requested() {
+                // Ctrl-C: skip the remaining rows; the caller writes nothing.
+                return (Vec::new(), Vec::new(), None);
+            }
             let mut samples = Vec::with_capacity(w as usize);
             let mut stats = Vec::with_capacity(w as usize);
             let mut nan = None;
@@ -141,6 +145,20 @@ fn render_with<R: Tally>(
         })
         .collect();
     let trace_seconds = start.elapsed().as_secs_f64();
+    if crate::interrupt::requested() {
+        // Some rows were skipped: there is no image to reconstruct (and none will be written).
+        return RenderOutput {
+            image: Image {
+                width: w,
+                height: h,
+                pixels: vec![DVec3::ZERO; w as usize * h as usize],
+            },
+            stats: None,
+            trace_seconds,
+            first_nan: None,
+            spp_map: None,
+        };
+    }
 
     let first_nan = rows.iter().find_map(|r| r.2);
     let mut stats: Option<RenderStats> = None;
@@ -226,3 +244,32 @@ pub fn reconstruct(
     (sum / total, weights)
 }
 // ANCHOR_END: reconstruct
+
+/// Bytes a render of `width`×`height` at `spp` samples per pixel holds at its peak: every
+/// sample kept for reconstruction (film position and colour), each pixel's sample list, the
+/// linear image, the 8-bit image and its PNG encoding.
+pub fn memory_needed(width: u32, height: u32, spp: u32) -> u64 {
+    let per_pixel = std::mem::size_of::<PixelSample>() as u64 * spp as u64
+        + std::mem::size_of::<Vec<PixelSample>>() as u64
+        + 2 * std::mem::size_of::<DVec3>() as u64
+        + 2 * 3;
+    width as u64 * height as u64 * per_pixel
+}
+
+/// The most memory a render may take ([`check_memory`]).
+pub const MEMORY_BUDGET: u64 = 8 << 30;
+
+/// Refuses, before anything is allocated, a render that would need more than
+/// [`MEMORY_BUDGET`], saying how much it would need.
+pub fn check_memory(width: u32, height: u32, spp: u32) -> Result<(), String> {
+    let need = memory_needed(width, height, spp);
+    if need > MEMORY_BUDGET {
+        let gib = |b: u64| b as f64 / (1u64 << 30) as f64;
+        return Err(format!(
+            "{width}×{height} pixels at {spp} sample(s) per pixel would need about {:.1} GiB of memory, more than the {:.0} GiB rtlab allows: render fewer pixels or samples",
+            gib(need),
+            gib(MEMORY_BUDGET)
+        ));
+    }
+    Ok(())
+}

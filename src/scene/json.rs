@@ -7,6 +7,13 @@ use glam::{DVec2, DVec3};
 use serde_json::{Map, Value};
 use std::path::Path;
 
+/// The largest magnitude of any number in a scene. Intersection tests square coordinates
+/// (and multiply the squares): 1e12 keeps every intermediate far from f64's 1.8e308.
+pub const MAX_MAGNITUDE: f64 = 1e12;
+/// The smallest size (radius, slope, ...) accepted: below it, squares fall towards f64's
+/// subnormal range and the surface is lost in rounding.
+pub const MIN_SIZE: f64 = 1e-12;
+
 /// A value in the document and where it sits.
 #[derive(Clone, Copy)]
 pub struct Node<'a> {
@@ -15,14 +22,22 @@ pub struct Node<'a> {
     pub file: &'a Path,
 }
 
-/// Parses JSON text, turning a syntax error into `file: line L, column C: ...`.
+/// Parses JSON text, turning a syntax error into `file: line L:C: ...` (the line and column
+/// where the parser stopped, both counted from 1, as editors show them).
 pub fn parse(file: &Path, text: &str) -> Result<Value> {
+    if text.trim().is_empty() {
+        return Err(Error::input(
+            file,
+            "",
+            "the file is empty: expected a JSON scene",
+        ));
+    }
     serde_json::from_str(text).map_err(|e| {
         let what = e.to_string();
         let what = what.split(" at line").next().unwrap_or(&what).to_string();
         Error::input(
             file,
-            format!("line {}, column {}", e.line(), e.column()),
+            format!("line {}:{}", e.line(), e.column().max(1)),
             format!("invalid JSON: {what}"),
         )
     })
@@ -56,17 +71,30 @@ impl<'a> Node<'a> {
         self.err(format!("expected {what}, found {}", describe(self.v)))
     }
 
+    /// A finite number no larger in magnitude than [`MAX_MAGNITUDE`] (squaring a larger one
+    /// in an intersection test would overflow to infinity and then NaN).
     pub fn f64(&self) -> Result<f64> {
         let x = self.v.as_f64().ok_or_else(|| self.expected("a number"))?;
         if !x.is_finite() {
             return Err(self.err("expected a finite number"));
         }
+        if x.abs() > MAX_MAGNITUDE {
+            return Err(self.err(format!(
+                "{x:e} is too large: numbers in a scene must lie between -{MAX_MAGNITUDE:e} and {MAX_MAGNITUDE:e}"
+            )));
+        }
         Ok(x)
     }
+    /// A size (radius, slope, distance): greater than 0 and not below [`MIN_SIZE`].
     pub fn positive(&self) -> Result<f64> {
         let x = self.f64()?;
         if x <= 0.0 {
             return Err(self.err(format!("must be greater than 0, found {x}")));
+        }
+        if x < MIN_SIZE {
+            return Err(self.err(format!(
+                "{x:e} is too small: sizes must be at least {MIN_SIZE:e}"
+            )));
         }
         Ok(x)
     }
@@ -143,7 +171,10 @@ impl<'a> Node<'a> {
     pub fn direction(&self) -> Result<DVec3> {
         let d = self.vec3()?;
         if d.length_squared() == 0.0 || !d.length_squared().is_finite() {
-            return Err(self.err("a direction must not be the zero vector"));
+            return Err(self.err(format!(
+                "a direction must not be the zero vector, found [{}, {}, {}]",
+                d.x, d.y, d.z
+            )));
         }
         Ok(d)
     }

@@ -236,7 +236,7 @@ impl Scene {
                 .max_element()
                 .max(size.max.abs().max_element())
         };
-        self.render.epsilon = 1e-7 * extent.clamp(1e-3, 1e9).max(1.0);
+        self.render.epsilon = 1e-7 * extent.clamp(1e-9, 1e12);
     }
 
     /// The material of an object.
@@ -268,12 +268,33 @@ pub fn load_texture(path: &Path) -> Result<crate::shading::TextureSource> {
     if path.is_dir() {
         return Err(Error::io(path, "is a directory, expected a texture image"));
     }
-    let img = image::open(path).map_err(|e| match e {
-        image::ImageError::IoError(io) => {
-            Error::io(path, format!("cannot read texture: {}", io_reason(&io)))
-        }
-        other => Error::io(path, format!("cannot decode texture image: {other}")),
-    })?;
+    let bytes = std::fs::read(path)
+        .map_err(|e| Error::io(path, format!("cannot read texture: {}", io_reason(&e))))?;
+    if bytes.is_empty() {
+        return Err(Error::io(
+            path,
+            "the texture file is empty: expected a PNG, JPEG or GIF image",
+        ));
+    }
+    // The format comes from the file's first bytes, not its name.
+    let img = image::ImageReader::new(std::io::Cursor::new(bytes))
+        .with_guessed_format()
+        .map_err(|e| Error::io(path, format!("cannot read texture: {e}")))?
+        .decode()
+        .map_err(|e| {
+            let why = match e {
+                image::ImageError::IoError(io)
+                    if io.kind() == std::io::ErrorKind::UnexpectedEof =>
+                {
+                    "the file is truncated".to_string()
+                }
+                other => other.to_string(),
+            };
+            Error::io(
+                path,
+                format!("cannot decode texture image: {why} (expected a PNG, JPEG or GIF image)"),
+            )
+        })?;
     let rgb = img.to_rgb8();
     if rgb.width() == 0 || rgb.height() == 0 {
         return Err(Error::io(path, "the texture image is empty"));

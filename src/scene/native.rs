@@ -424,10 +424,7 @@ fn texture(n: &Node, base: &Path) -> Result<Texture> {
                 "a texture needs \"file\" (an image) or \"checker\" ([squares_u, squares_v])",
             ))
         }
-        (true, false) => {
-            let file = o.req("file", |n| n.str().map(String::from))?;
-            load_texture(&resolve(base, &file))?
-        }
+        (true, false) => o.req("file", |n| referenced(&n, base, load_texture))?,
         (false, true) => {
             let squares = o.req("checker", |n| {
                 let s = n.vec2()?;
@@ -716,10 +713,9 @@ fn object(
             object(&n, i, base, by_name, names, materials)
         })?,
         "blob" => super::solids::blob(&o)?,
-        _ => {
-            let file = o.req("file", |n| n.str().map(String::from))?;
-            Shape::Mesh(Arc::new(super::obj::load(&resolve(base, &file))?))
-        }
+        _ => Shape::Mesh(Arc::new(
+            o.req("file", |n| referenced(&n, base, super::obj::load))?,
+        )),
     };
     let bounds = world_bounds(&shape, &transform);
     Ok(Object {
@@ -741,6 +737,20 @@ pub(super) fn standalone_object(path: &Path, value: &Value) -> Result<Object> {
     let base = path.parent().unwrap_or(Path::new("."));
     let mut materials = vec![Material::default()];
     object(&node, 0, base, &HashMap::new(), &[], &mut materials)
+}
+
+/// Loads a file the scene names (a mesh, a texture). When it cannot be read, the error names
+/// the scene's key as well as the file, so the student knows which line to fix; errors inside
+/// the file (an OBJ's line:column) name that file.
+fn referenced<T>(n: &Node, base: &Path, load: impl FnOnce(&Path) -> Result<T>) -> Result<T> {
+    let file = n.str()?;
+    if file.trim().is_empty() {
+        return Err(n.err("expected a file name, found an empty string"));
+    }
+    load(&resolve(base, file)).map_err(|e| match e {
+        Error::Io { path, msg } => n.err(format!("{}: {msg}", path.display())),
+        other => other,
+    })
 }
 
 fn points(n: &Node, count: usize) -> Result<Vec<DVec3>> {
