@@ -463,8 +463,18 @@ fn draw_shape(
                         style::rgba(31, 119, 180, 60),
                     ),
                 ];
-                for (_, _, tri, col) in &subs {
-                    c.polygon(tri, Some((style::rgba(60, 60, 70, 90), 0.8)), Some(*col));
+                // A negative weight (the point is outside, across that corner's edge) is an
+                // area that counts against: outlined dashed, not filled.
+                for (_, w, tri, col) in &subs {
+                    if w.unwrap_or(0.0) >= 0.0 {
+                        c.polygon(tri, Some((style::rgba(60, 60, 70, 90), 0.8)), Some(*col));
+                    } else {
+                        let solid = Color::from_rgba(col.red(), col.green(), col.blue(), 1.0)
+                            .unwrap_or(style::ink());
+                        for k in 0..3 {
+                            line(c, labels, tri[k], tri[(k + 1) % 3], solid, 1.4, true);
+                        }
+                    }
                 }
                 c.polygon(&pts, Some((stroke, 2.2)), None);
                 block_polygon(labels, &pts);

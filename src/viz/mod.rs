@@ -5,6 +5,7 @@
 pub mod canvas;
 pub mod intersect;
 pub mod labels;
+mod section;
 pub mod slice;
 pub mod style;
 
