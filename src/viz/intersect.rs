@@ -813,6 +813,7 @@ pub fn height(r: &Report) -> u32 {
     let lines = 1
         + 2 * r.quadratic.is_some() as usize
         + r.barycentric.is_some() as usize
+        + r.linear.is_some() as usize
         + r.candidates.len().max(1)
         + r.hit.is_none() as usize;
     (PLOT[3] + 12.0 + 18.0 * lines as f32 + 10.0).ceil() as u32
@@ -891,6 +892,19 @@ fn panel(c: &mut Canvas, r: &Report) {
             format!("D = b² − 4ac = {}  →  {verdict}", short(q.discriminant))
         };
         say(c, &dtext, style::ink(), 13.0);
+    }
+    if let Some(l) = &r.linear {
+        let text = if l.denominator == 0.0 {
+            "n·d = 0: the ray is parallel to the plane, no root".to_string()
+        } else {
+            format!(
+                "t = n·(Q0 − P) / (n·d) = {} / {} = {}",
+                short(l.numerator),
+                short(l.denominator),
+                short(l.numerator / l.denominator)
+            )
+        };
+        say(c, &text, style::ink(), 13.0);
     }
     if let Some(b) = &r.barycentric {
         let text = match (b.alpha, b.beta, b.gamma, b.t) {
