@@ -789,7 +789,14 @@ pub fn figure(r: &Report) -> Canvas {
             );
         }
         labels.block_point(p, 5.0);
-        let name = if r.candidates.len() == 1 {
+        let tangent = r
+            .quadratic
+            .as_ref()
+            .is_some_and(|q| q.roots == Roots::Tangent);
+        let name = if r.candidates.len() == 1 && tangent {
+            let pt: Vec<String> = cand.point.iter().map(|x| short(*x)).collect();
+            format!("t = {}: tangent at ({})", short(cand.t), pt.join(", "))
+        } else if r.candidates.len() == 1 {
             format!("t = {}", short(cand.t))
         } else {
             format!("t{} = {}", i + 1, short(cand.t))
