@@ -87,7 +87,7 @@ pub(super) fn sections(
                 mark(&mut edge, x.floor() as i64, y);
                 mark(&mut edge, x.floor() as i64 + 1, y);
             }
-            if solid && ts.len() % 2 == 0 {
+            if solid && ts.len().is_multiple_of(2) {
                 for pair in ts.chunks(2) {
                     let a = (x0 as f64 + pair[0] * scale - 0.5).ceil() as i64;
                     let b = (x0 as f64 + pair[1] * scale - 0.5).floor() as i64;

@@ -284,12 +284,10 @@ fn clip(a: (f32, f32), b: (f32, f32), r: [f32; 4]) -> Option<((f32, f32), (f32, 
             }
         }
     }
-    (t0 <= t1).then(|| {
-        (
-            (a.0 + dx * t0, a.1 + dy * t0),
-            (a.0 + dx * t1, a.1 + dy * t1),
-        )
-    })
+    (t0 <= t1).then_some((
+        (a.0 + dx * t0, a.1 + dy * t0),
+        (a.0 + dx * t1, a.1 + dy * t1),
+    ))
 }
 
 /// A drawn ray: its node and where it starts and ends in the plane.
@@ -709,8 +707,7 @@ fn scale_bar(canvas: &mut Canvas, view: &View) {
     let len = [1.0, 2.0, 5.0, 10.0]
         .into_iter()
         .map(|m| m * p)
-        .filter(|l| l * view.scale <= 120.0)
-        .last()
+        .rfind(|l| l * view.scale <= 120.0)
         .unwrap_or(p);
     let px = (len * view.scale) as f32;
     let (x, y) = (view.rect[0] + 8.0, view.rect[3] - 8.0);
