@@ -37,9 +37,16 @@ fn parent(path: &Path) -> &Path {
 /// Writes `bytes` to `path` atomically.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     let dir = parent(path);
-    let mut tmp = tempfile::Builder::new()
-        .prefix(".rtlab-")
-        .suffix(".tmp")
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".rtlab-").suffix(".tmp");
+    // tempfile creates files 0600; an output file should get the usual mode (0666 less
+    // the umask, applied by open(2)), like any file a command writes.
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        builder.permissions(std::fs::Permissions::from_mode(0o666));
+    }
+    let mut tmp = builder
         .tempfile_in(dir)
         .map_err(|e| Error::io(path, format!("cannot write: {e}")))?;
     tmp.write_all(bytes)

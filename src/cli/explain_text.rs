@@ -3,7 +3,8 @@
 
 use super::explain::Explanation;
 use crate::scene::{Encoding, Scene};
-use crate::shapes::{working::short, Roots};
+use crate::shapes::working::{short, BlobWorking, CsgWorking, SpanRecord};
+use crate::shapes::Roots;
 use crate::trace::{End, RayKind, RayNode};
 use glam::{DVec2, DVec3};
 use std::fmt::Write;
@@ -158,6 +159,12 @@ fn ray(o: &mut String, scene: &Scene, n: &RayNode, depth: usize) {
             }
         }
         let _ = writeln!(o);
+        if let Some(c) = &t.csg {
+            csg_text(o, c, &format!("{pad}    "));
+        }
+        if let Some(b) = &t.blob {
+            blob_text(o, b, &format!("{pad}    "));
+        }
         for c in &t.candidates {
             let _ = writeln!(
                 o,
@@ -283,5 +290,108 @@ fn ray(o: &mut String, scene: &Scene, n: &RayNode, depth: usize) {
     );
     for c in others.by_ref() {
         ray(o, scene, c, depth + 1);
+    }
+}
+
+/// Intervals as `[t_in surface, t_out surface]` pieces.
+pub fn spans_text(spans: &[SpanRecord]) -> String {
+    if spans.is_empty() {
+        return "none".to_string();
+    }
+    spans
+        .iter()
+        .map(|s| {
+            format!(
+                "[{} {}, {} {}]",
+                short(s.enter.t),
+                s.enter.surface,
+                short(s.exit.t),
+                s.exit.surface
+            )
+        })
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// A CSG node's working: each child's intervals (nested nodes indented), then the result.
+pub fn csg_text(o: &mut String, c: &CsgWorking, pad: &str) {
+    let _ = writeln!(
+        o,
+        "{pad}CSG {} of {} children, intervals of t inside each:",
+        c.op.name(),
+        c.children.len()
+    );
+    for (i, ch) in c.children.iter().enumerate() {
+        let _ = writeln!(
+            o,
+            "{pad}  {} {} ({}): {}",
+            if i == 0 { "first" } else { c.op.symbol() },
+            ch.name,
+            ch.shape,
+            spans_text(&ch.spans)
+        );
+        if let Some(n) = &ch.csg {
+            csg_text(o, n, &format!("{pad}    "));
+        }
+    }
+    let _ = writeln!(o, "{pad}  = combined: {}", spans_text(&c.combined));
+}
+
+/// A blob's root search in a few lines.
+pub fn blob_text(o: &mut String, b: &BlobWorking, pad: &str) {
+    let pieces: Vec<String> = b
+        .segments
+        .iter()
+        .map(|s| format!("[{}, {}]", short(s[0]), short(s[1])))
+        .collect();
+    if pieces.is_empty() {
+        let _ = writeln!(
+            o,
+            "{pad}blob: the ray misses every component's sphere of influence, where the field is 0 < {}: no root",
+            short(b.threshold)
+        );
+        return;
+    }
+    let _ = writeln!(
+        o,
+        "{pad}blob: surface where the field = {}; |dF/dt| ≤ L = {}; inside the spheres of influence on t in {}",
+        short(b.threshold),
+        short(b.lipschitz),
+        pieces.join(" ")
+    );
+    let _ = writeln!(
+        o,
+        "{pad}  {} field samples: a piece [a, b] is ruled out when F has the same sign at both ends and |F(a)| + |F(b)| > L·(b − a), or the field's bounds on it stay on one side of the threshold; else it is halved",
+        b.samples.len()
+    );
+    for br in &b.brackets {
+        let _ = writeln!(
+            o,
+            "{pad}  bracket [{}, {}] (width {:.1e}): field {:.7} → {:.7} crosses {}",
+            short(br.a),
+            short(br.b),
+            br.b - br.a,
+            br.field_a,
+            br.field_b,
+            short(b.threshold)
+        );
+    }
+    if !b.steps.is_empty() {
+        let newton = b.steps.iter().filter(|s| s.method == "newton").count();
+        let _ = writeln!(
+            o,
+            "{pad}  refined in {} steps ({} Newton, {} bisection)",
+            b.steps.len(),
+            newton,
+            b.steps.len() - newton
+        );
+    }
+    for r in &b.roots {
+        let _ = writeln!(
+            o,
+            "{pad}  root t = {} ({})",
+            short(r.t),
+            if r.entering { "entering" } else { "leaving" }
+        );
     }
 }

@@ -658,6 +658,8 @@ pub fn describe(shape: &Shape, two_d: bool) -> String {
         Shape::Box(b) => format!("from {} to {}", v3(b.min), v3(b.max)),
         Shape::Triangle(t) => format!("a = {}, b = {}, c = {}", v3(t.v[0]), v3(t.v[1]), v3(t.v[2])),
         Shape::Mesh(_) => "mesh".into(),
+        Shape::Csg(_) => "CSG solid".into(),
+        Shape::Blob(_) => "blob".into(),
     }
 }
 

@@ -1,12 +1,15 @@
 //! One module per subcommand, each an args struct and a `run`. Options shared by every
 //! command that renders are one flattened group, [`RenderArgs`].
 
+pub mod convert;
 pub mod explain;
 pub mod explain_text;
 pub mod intersect;
+pub mod intersect_solids;
 pub mod lessons;
 pub mod render;
 pub mod schema;
+pub mod steps;
 pub mod validate;
 
 use crate::accel::AccelKind;
@@ -41,8 +44,13 @@ pub enum Command {
     Validate(validate::Args),
     /// Print the JSON Schema of the native scene format.
     Schema(schema::Args),
+    /// Write the native rtlab equivalent of a CS1230 scenefile.
+    Convert(convert::Args),
     /// Build or check the book's figures from lessons/*.json.
     Lessons(lessons::Args),
+    /// The image built up step by step: visibility, normals, each lighting term, shadows,
+    /// reflection depth by depth, refraction (frames, index.json, optional GIF).
+    Steps(steps::Args),
 }
 
 /// Runs a parsed command line, writing what a command prints to `out` (stdout for the
@@ -54,7 +62,9 @@ pub fn run(cli: Cli, out: &mut dyn Write) -> Result<()> {
         Command::Intersect(a) => intersect::run(a, out),
         Command::Validate(a) => validate::run(a, out),
         Command::Schema(a) => schema::run(a, out),
+        Command::Convert(a) => convert::run(a, out),
         Command::Lessons(a) => lessons::run(a, out),
+        Command::Steps(a) => steps::run(a, out),
     }
 }
 

@@ -3,6 +3,7 @@
 use super::{default_output, RenderArgs};
 use crate::error::{Error, Result};
 use crate::output::{check_png, write_png};
+use crate::sampling::aov::{render_aov, Aov};
 use crate::sampling::render;
 use serde_json::json;
 use std::io::IsTerminal;
@@ -27,6 +28,10 @@ pub struct Args {
     /// No progress bar.
     #[arg(long, short)]
     pub quiet: bool,
+    /// Write an arbitrary output variable instead of the colour: depth, normal, albedo,
+    /// object-id, ambient, diffuse, specular, reflection, transmission, shadow, ray-depth, cost.
+    #[arg(long, value_name = "NAME")]
+    pub aov: Option<String>,
 }
 
 /// Runs `f` on a thread pool of `threads` workers (or rayon's default).
@@ -55,8 +60,37 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
             ))
         }
     };
-    let out = default_output(&args.scene, args.output.clone(), "");
+    let aov = match args.aov.as_deref() {
+        None => None,
+        Some(name) => Some(Aov::parse(name).ok_or_else(|| {
+            Error::arg(
+                "--aov",
+                format!(
+                    "unknown AOV \"{name}\" (expected one of: {})",
+                    Aov::names().join(", ")
+                ),
+            )
+        })?),
+    };
+    let suffix = aov.map(|a| format!("-{}", a.name())).unwrap_or_default();
+    let out = default_output(&args.scene, args.output.clone(), &suffix);
     check_png(&out, "-o")?;
+    if let Some(aov) = aov {
+        if stats_format.is_some() {
+            return Err(Error::arg(
+                "--stats",
+                "cannot be combined with --aov (the cost AOV shows the work per pixel)",
+            ));
+        }
+        let scene = args.render.load(&args.scene)?;
+        let img = with_threads(args.threads, || render_aov(&scene, &scene.render, aov))?;
+        write_png(&out, &img.image)?;
+        if !args.quiet {
+            eprintln!("{}", img.legend);
+            eprintln!("wrote {}", out.display());
+        }
+        return Ok(());
+    }
     let t0 = Instant::now();
     let scene = args.render.load(&args.scene)?;
     let load = t0.elapsed().as_secs_f64();

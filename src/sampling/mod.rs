@@ -1,5 +1,6 @@
 //! Where samples go in a pixel, how they are weighted back into pixels, and the film.
 
+pub mod aov;
 mod film;
 mod filter;
 mod sampler;

@@ -5,6 +5,7 @@ pub mod cs1230;
 pub mod json;
 mod native;
 pub mod obj;
+mod solids;
 
 use crate::accel::{Accel, AccelKind};
 use crate::camera::Camera;
@@ -16,6 +17,7 @@ use glam::DVec3;
 use std::path::{Path, PathBuf};
 
 pub use native::NATIVE_KEYS;
+pub use solids::load_solid;
 
 /// The deepest recursion accepted from a scene or `--max-depth`.
 pub fn native_max_depth() -> u32 {

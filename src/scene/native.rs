@@ -60,6 +60,7 @@ const RENDER: &[&str] = &[
     "background",
     "seed",
     "encoding",
+    "clamp_each_ray",
 ];
 const GLOBAL: &[&str] = &["ka", "kd", "ks", "kt"];
 const LIGHT: &[&str] = &[
@@ -107,6 +108,13 @@ const OBJECT: &[&str] = &[
     "normals",
     "uvs",
     "file",
+    "op",
+    "children",
+    "left",
+    "right",
+    "threshold",
+    "falloff",
+    "components",
 ];
 /// Which object keys belong to which shape (beyond name, shape, material, transform).
 const SHAPE_KEYS: &[(&str, &[&str])] = &[
@@ -117,6 +125,8 @@ const SHAPE_KEYS: &[(&str, &[&str])] = &[
     ("cone", &["slope", "y_min", "y_max", "capped"]),
     ("triangle", &["vertices", "normals", "uvs"]),
     ("mesh", &["file"]),
+    ("csg", &["op", "children", "left", "right"]),
+    ("blob", &["threshold", "falloff", "components"]),
 ];
 
 /// Largest recursion depth accepted (each level can double the rays).
@@ -268,6 +278,7 @@ fn render_settings(n: &Node) -> Result<RenderSettings> {
             "srgb" => Ok(Encoding::Srgb),
             s => Err(n.err(format!("unknown encoding \"{s}\" (expected clamp or srgb)"))),
         })?,
+        clamp_each_ray: o.or("clamp_each_ray", d.clamp_each_ray, |n| n.bool())?,
         ..d
     })
 }
@@ -701,6 +712,10 @@ fn object(
             }
             Shape::Triangle(t)
         }
+        "csg" => super::solids::csg(&o, &mut |n, i| {
+            object(&n, i, base, by_name, names, materials)
+        })?,
+        "blob" => super::solids::blob(&o)?,
         _ => {
             let file = o.req("file", |n| n.str().map(String::from))?;
             Shape::Mesh(Arc::new(super::obj::load(&resolve(base, &file))?))
@@ -714,6 +729,18 @@ fn object(
         material,
         bounds,
     })
+}
+
+/// Reads one object written as in a scene's `"objects"`, alone (no named materials).
+pub(super) fn standalone_object(path: &Path, value: &Value) -> Result<Object> {
+    let node = Node {
+        v: value,
+        path: "",
+        file: path,
+    };
+    let base = path.parent().unwrap_or(Path::new("."));
+    let mut materials = vec![Material::default()];
+    object(&node, 0, base, &HashMap::new(), &[], &mut materials)
 }
 
 fn points(n: &Node, count: usize) -> Result<Vec<DVec3>> {

@@ -24,28 +24,41 @@ impl Cone {
         t_max: f64,
         obs: &mut O,
     ) -> Option<LocalHit> {
+        let mut best: Option<Candidate> = None;
+        self.candidates(ray, t_min, obs, |c| {
+            if c.on_shape && c.in_front && c.t <= t_max && best.is_none_or(|b| c.t < b.t) {
+                best = Some(c);
+            }
+        });
+        let c = best?;
+        Some(self.local_hit(ray, c.t, c.surface))
+    }
+
+    /// Every body and cap root, on the finite shape or not, handed to `found` (and shown to
+    /// the observer). Serves both the closest hit and the CSG interval query.
+    pub fn candidates<O: Observer>(
+        &self,
+        ray: &Ray,
+        t_min: f64,
+        obs: &mut O,
+        mut found: impl FnMut(Candidate),
+    ) {
         let (p, d) = (ray.origin, ray.dir);
         let k2 = self.slope * self.slope;
-        let mut best: Option<(f64, &'static str)> = None;
         let mut consider = |t: f64,
                             surface: &'static str,
                             on_shape: bool,
                             why: &dyn Fn() -> String,
                             obs: &mut O| {
-            let in_front = t >= t_min;
-            obs.candidate(
-                Candidate {
-                    t,
-                    point: ray.at(t),
-                    surface,
-                    on_shape,
-                    in_front,
-                },
-                why,
-            );
-            if on_shape && in_front && t <= t_max && best.is_none_or(|b| t < b.0) {
-                best = Some((t, surface));
-            }
+            let c = Candidate {
+                t,
+                point: ray.at(t),
+                surface,
+                on_shape,
+                in_front: t >= t_min,
+            };
+            obs.candidate(c, why);
+            found(c);
         };
 
         // Body: substitute into x² + z² − k²y² = 0.
@@ -90,7 +103,10 @@ impl Cone {
                 consider(t, surface, on_shape, &why, obs);
             }
         }
-        let (t, surface) = best?;
+    }
+
+    pub(crate) fn local_hit(&self, ray: &Ray, t: f64, surface: &'static str) -> LocalHit {
+        let k2 = self.slope * self.slope;
         let mut point = ray.at(t);
         let (normal, uv) = match surface {
             "top-cap" | "bottom-cap" => {
@@ -124,7 +140,7 @@ impl Cone {
                 (n, DVec2::new(u, v))
             }
         };
-        Some(LocalHit {
+        LocalHit {
             t,
             point,
             normal,
@@ -132,6 +148,6 @@ impl Cone {
             surface,
             barycentric: None,
             index: 0,
-        })
+        }
     }
 }

@@ -13,6 +13,18 @@ pub struct Cuboid {
 
 const FACES: [[&str; 2]; 3] = [["x-min", "x-max"], ["y-min", "y-max"], ["z-min", "z-max"]];
 
+/// The (axis, side) of a face name.
+fn face_of(surface: &str) -> (usize, usize) {
+    for (axis, names) in FACES.iter().enumerate() {
+        for (side, name) in names.iter().enumerate() {
+            if *name == surface {
+                return (axis, side);
+            }
+        }
+    }
+    (0, 0)
+}
+
 impl Cuboid {
     pub fn intersect<O: Observer>(
         &self,
@@ -21,7 +33,25 @@ impl Cuboid {
         t_max: f64,
         obs: &mut O,
     ) -> Option<LocalHit> {
-        let mut best: Option<(f64, usize, usize)> = None;
+        let mut best: Option<Candidate> = None;
+        self.candidates(ray, t_min, obs, |c| {
+            if c.on_shape && c.in_front && c.t <= t_max && best.is_none_or(|b| c.t < b.t) {
+                best = Some(c);
+            }
+        });
+        let c = best?;
+        Some(self.local_hit(c.t, c.point, c.surface))
+    }
+
+    /// The six face candidates, on their face or not, handed to `found` (and shown to the
+    /// observer). Serves both the closest hit and the CSG interval query.
+    pub fn candidates<O: Observer>(
+        &self,
+        ray: &Ray,
+        t_min: f64,
+        obs: &mut O,
+        mut found: impl FnMut(Candidate),
+    ) {
         let size = self.max - self.min;
         for axis in 0..3 {
             let d = ray.dir[axis];
@@ -37,47 +67,42 @@ impl Cuboid {
                     let tol = ON_SHAPE_EPS * size[k].max(1.0);
                     point[k] >= self.min[k] - tol && point[k] <= self.max[k] + tol
                 };
-                let on_shape = inside(u) && inside(v);
-                let in_front = t >= t_min;
-                let surface = FACES[axis][side];
-                obs.candidate(
-                    Candidate {
-                        t,
-                        point,
-                        surface,
-                        on_shape,
-                        in_front,
-                    },
-                    || {
-                        let k = if inside(u) { v } else { u };
-                        let name = ["x", "y", "z"][k];
-                        format!(
-                            "{name} = {} is outside [{}, {}]: the plane is hit beside the face",
-                            short(point[k]),
-                            short(self.min[k]),
-                            short(self.max[k])
-                        )
-                    },
-                );
-                if on_shape && in_front && t <= t_max && best.is_none_or(|b| t < b.0) {
-                    best = Some((t, axis, side));
-                }
+                let c = Candidate {
+                    t,
+                    point,
+                    surface: FACES[axis][side],
+                    on_shape: inside(u) && inside(v),
+                    in_front: t >= t_min,
+                };
+                obs.candidate(c, || {
+                    let k = if inside(u) { v } else { u };
+                    let name = ["x", "y", "z"][k];
+                    format!(
+                        "{name} = {} is outside [{}, {}]: the plane is hit beside the face",
+                        short(point[k]),
+                        short(self.min[k]),
+                        short(self.max[k])
+                    )
+                });
+                found(c);
             }
         }
-        let (t, axis, side) = best?;
-        let mut point = ray.at(t);
-        point[axis] = [self.min[axis], self.max[axis]][side];
+    }
+
+    /// The surface record of a face candidate (its point already lies on the face's plane).
+    pub(crate) fn local_hit(&self, t: f64, point: DVec3, surface: &'static str) -> LocalHit {
+        let (axis, side) = face_of(surface);
         let mut normal = DVec3::ZERO;
         normal[axis] = if side == 0 { -1.0 } else { 1.0 };
-        Some(LocalHit {
+        LocalHit {
             t,
             point,
             normal,
             uv: self.uv(point, axis, side),
-            surface: FACES[axis][side],
+            surface,
             barycentric: None,
             index: 0,
-        })
+        }
     }
 
     /// Each face seen from outside: u to the right, v up (the course's cube convention).

@@ -25,27 +25,41 @@ impl Cylinder {
         t_max: f64,
         obs: &mut O,
     ) -> Option<LocalHit> {
+        let mut best: Option<Candidate> = None;
+        self.candidates(ray, t_min, obs, |c| {
+            if c.on_shape && c.in_front && c.t <= t_max && best.is_none_or(|b| c.t < b.t) {
+                best = Some(c);
+            }
+        });
+        let c = best?;
+        Some(self.local_hit(c.point, c.t, c.surface))
+    }
+
+    /// Every candidate t1..t4, on the finite shape or not, handed to `found` in the order
+    /// they are computed (and shown to the observer with the reason a tossed one was tossed).
+    /// Serves both the closest hit above and the CSG interval query.
+    pub fn candidates<O: Observer>(
+        &self,
+        ray: &Ray,
+        t_min: f64,
+        obs: &mut O,
+        mut found: impl FnMut(Candidate),
+    ) {
         let (p, d, r) = (ray.origin, ray.dir, self.radius);
-        let mut best: Option<(f64, &'static str)> = None;
         let mut consider = |t: f64,
                             surface: &'static str,
                             on_shape: bool,
                             why: &dyn Fn() -> String,
                             obs: &mut O| {
-            let in_front = t >= t_min;
-            obs.candidate(
-                Candidate {
-                    t,
-                    point: ray.at(t),
-                    surface,
-                    on_shape,
-                    in_front,
-                },
-                why,
-            );
-            if on_shape && in_front && t <= t_max && best.is_none_or(|b| t < b.0) {
-                best = Some((t, surface));
-            }
+            let c = Candidate {
+                t,
+                point: ray.at(t),
+                surface,
+                on_shape,
+                in_front: t >= t_min,
+            };
+            obs.candidate(c, why);
+            found(c);
         };
 
         // Body: substitute into x² + z² − r² = 0.
@@ -88,12 +102,10 @@ impl Cylinder {
                 consider(t, surface, on_shape, &why, obs);
             }
         }
-        let (t, surface) = best?;
-        Some(self.local_hit(ray.at(t), t, surface))
     }
     // ANCHOR_END: cylinder
 
-    fn local_hit(&self, mut point: DVec3, t: f64, surface: &'static str) -> LocalHit {
+    pub(crate) fn local_hit(&self, mut point: DVec3, t: f64, surface: &'static str) -> LocalHit {
         let r = self.radius;
         let (normal, uv) = match surface {
             "top-cap" => {

@@ -74,4 +74,41 @@ impl Mesh {
         }
         Some(tri.local_hit(ray, &b, index as u32))
     }
+
+    /// Every face the whole line P + t·d crosses (any t, in no particular order), with
+    /// whether the line enters the solid there (d against the face's winding normal). The
+    /// CSG interval query of a closed mesh; the test per face is the same Cramer solve.
+    pub fn crossings(&self, ray: &Ray, mut found: impl FnMut(LocalHit, bool)) {
+        let mut visited = 0;
+        self.bvh
+            .any(ray, f64::NEG_INFINITY, f64::INFINITY, &mut visited, |i| {
+                let v = self.faces[i].map(|k| self.positions[k as usize]);
+                if let Some(b) = cramer_hit(&v, ray, f64::NEG_INFINITY, f64::INFINITY) {
+                    let tri = self.triangle(i);
+                    let entering = tri.geometric_normal().dot(ray.dir) < 0.0;
+                    found(tri.local_hit(ray, &b, i as u32), entering);
+                }
+                false // keep going: every crossing counts
+            });
+    }
+
+    /// True when every edge is shared by exactly two faces (a closed, watertight surface):
+    /// only then does the mesh bound a solid that CSG can combine.
+    pub fn is_closed(&self) -> bool {
+        use std::collections::HashMap;
+        let key = |p: DVec3| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
+        let mut edges: HashMap<([u64; 3], [u64; 3]), u32> = HashMap::new();
+        for f in &self.faces {
+            for k in 0..3 {
+                let (a, b) = (
+                    key(self.positions[f[k] as usize]),
+                    key(self.positions[f[(k + 1) % 3] as usize]),
+                );
+                *edges
+                    .entry(if a < b { (a, b) } else { (b, a) })
+                    .or_default() += 1;
+            }
+        }
+        !edges.is_empty() && edges.values().all(|&n| n == 2)
+    }
 }

@@ -6,9 +6,12 @@
 //! type whose empty methods compile away; `explain` and `intersect` pass [`Working`].
 
 mod aabb;
+mod blob;
 mod cone;
+mod csg;
 mod cuboid;
 mod cylinder;
+pub mod interval;
 mod mesh;
 mod plane;
 mod quadratic;
@@ -17,9 +20,12 @@ mod triangle;
 pub mod working;
 
 pub use aabb::Aabb;
+pub use blob::{Blob, BlobStep, Component, Falloff};
 pub use cone::Cone;
+pub use csg::{Csg, CsgChild};
 pub use cuboid::Cuboid;
 pub use cylinder::Cylinder;
+pub use interval::{CsgOp, Span};
 pub use mesh::Mesh;
 pub use plane::Plane;
 pub use quadratic::{Quadratic, Roots, TANGENT_TOLERANCE};
@@ -49,6 +55,23 @@ pub trait Observer {
     fn barycentric(&mut self, _b: &Barycentric) {}
     /// A mesh tested `n` triangles; the winning one was `index`.
     fn mesh(&mut self, _tested: usize, _index: Option<usize>) {}
+    /// A CSG node starts combining its children (nested nodes begin and end inside).
+    fn csg_begin(&mut self, _op: CsgOp) {}
+    /// One child's spans, in the node's space.
+    fn csg_child(&mut self, _child: &CsgChild, _spans: &[Span]) {}
+    /// The node's combined spans.
+    fn csg_end(&mut self, _combined: &[Span]) {}
+    /// A blob's root search begins: the pieces of the ray inside the components' spheres of
+    /// influence and the Lipschitz bound of F(t) on them.
+    fn blob_search(&mut self, _threshold: f64, _lipschitz: f64, _segments: &[[f64; 2]]) {}
+    /// One evaluation of the field Σ s·f at t.
+    fn blob_sample(&mut self, _t: f64, _field: f64) {}
+    /// A bracket [a, b] with the field on opposite sides of the threshold at its ends.
+    fn blob_bracket(&mut self, _a: f64, _b: f64, _field_a: f64, _field_b: f64) {}
+    /// One refinement step inside a bracket.
+    fn blob_step(&mut self, _step: BlobStep) {}
+    /// A root, entering or leaving the blob.
+    fn blob_root(&mut self, _t: f64, _entering: bool) {}
 }
 
 /// The observer of `render`: sees nothing, costs nothing.
@@ -81,6 +104,9 @@ pub enum Shape {
     Cone(Cone),
     Triangle(Triangle),
     Mesh(Arc<Mesh>),
+    /// A CSG node (its children are shapes, CSG nodes included).
+    Csg(Arc<Csg>),
+    Blob(Arc<Blob>),
 }
 
 impl Shape {
@@ -101,6 +127,8 @@ impl Shape {
             Shape::Cone(s) => s.intersect(ray, t_min, t_max, obs),
             Shape::Triangle(s) => s.intersect(ray, t_min, t_max, obs),
             Shape::Mesh(s) => s.intersect(ray, t_min, t_max, obs),
+            Shape::Csg(s) => s.intersect(ray, t_min, t_max, obs),
+            Shape::Blob(s) => s.intersect(ray, t_min, t_max, obs),
         }
     }
 
@@ -126,6 +154,8 @@ impl Shape {
             }
             Shape::Triangle(s) => Some(Aabb::around(&s.v)),
             Shape::Mesh(m) => Some(m.bounds),
+            Shape::Csg(c) => c.bounds(),
+            Shape::Blob(b) => b.bounds(),
         }
     }
 
@@ -139,6 +169,8 @@ impl Shape {
             Shape::Cone(_) => "cone",
             Shape::Triangle(_) => "triangle",
             Shape::Mesh(_) => "mesh",
+            Shape::Csg(_) => "csg",
+            Shape::Blob(_) => "blob",
         }
     }
 }

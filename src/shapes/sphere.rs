@@ -20,6 +20,25 @@ impl Sphere {
         t_max: f64,
         obs: &mut O,
     ) -> Option<LocalHit> {
+        let mut best = None;
+        self.candidates(ray, t_min, obs, |c| {
+            if c.in_front && c.t <= t_max && best.is_none() {
+                best = Some(c.t); // roots come sorted: the first one in front is the closest
+            }
+        });
+        best.map(|t| self.local_hit(ray, t))
+    }
+
+    /// Every root of the sphere's quadratic, smallest first, each handed to `found` (and
+    /// shown to the observer). The closest-hit query above and the CSG interval query
+    /// ([`super::interval`]) both start here.
+    pub fn candidates<O: Observer>(
+        &self,
+        ray: &Ray,
+        t_min: f64,
+        obs: &mut O,
+        mut found: impl FnMut(Candidate),
+    ) {
         let oc = ray.origin - self.center;
         let q = Quadratic::new(
             ray.dir.dot(ray.dir),
@@ -28,29 +47,21 @@ impl Sphere {
         );
         obs.quadratic("sphere", &q);
         let (roots, n) = q.solve();
-        let mut best = None;
         for &t in &roots[..n] {
-            let point = ray.at(t);
-            let in_front = t >= t_min;
-            obs.candidate(
-                Candidate {
-                    t,
-                    point,
-                    surface: "sphere",
-                    on_shape: true,
-                    in_front,
-                },
-                String::new,
-            );
-            if in_front && t <= t_max && best.is_none() {
-                best = Some(t); // roots are sorted: the first one in front is the closest
-            }
+            let c = Candidate {
+                t,
+                point: ray.at(t),
+                surface: "sphere",
+                on_shape: true,
+                in_front: t >= t_min,
+            };
+            obs.candidate(c, String::new);
+            found(c);
         }
-        best.map(|t| self.local_hit(ray, t))
     }
     // ANCHOR_END: sphere
 
-    fn local_hit(&self, ray: &Ray, t: f64) -> LocalHit {
+    pub(crate) fn local_hit(&self, ray: &Ray, t: f64) -> LocalHit {
         let point = ray.at(t);
         let n = (point - self.center) / self.radius;
         let v = 0.5 + n.y.clamp(-1.0, 1.0).asin() / PI;

@@ -1,4 +1,4 @@
-use super::{Barycentric, Observer, Quadratic};
+use super::{Barycentric, BlobStep, CsgChild, CsgOp, Observer, Quadratic, Span};
 use glam::DVec3;
 use serde::Serialize;
 
@@ -37,6 +37,96 @@ pub struct Working {
     pub mesh: Option<(usize, Option<usize>)>,
     /// Linear equations t = numerator / denominator, by surface.
     pub linear: Vec<(&'static str, f64, f64)>,
+    /// A CSG object's intervals: each child's and the combination.
+    pub csg: Option<CsgWorking>,
+    /// A blob's root search.
+    pub blob: Option<BlobWorking>,
+    /// CSG nodes being combined (nested nodes sit above their parent).
+    #[serde(skip)]
+    csg_stack: Vec<CsgWorking>,
+    /// A nested node that just finished, waiting for its parent to list it as a child.
+    #[serde(skip)]
+    csg_nested: Option<CsgWorking>,
+}
+
+/// Where a ray crosses a solid's boundary, as explain writes it.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Boundary {
+    pub t: f64,
+    pub surface: &'static str,
+    pub point: DVec3,
+    /// Outward normal of the solid (of the combined solid, for a node's result).
+    pub normal: DVec3,
+}
+
+/// One interval of the ray inside a solid.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct SpanRecord {
+    pub enter: Boundary,
+    pub exit: Boundary,
+}
+
+impl SpanRecord {
+    pub fn of(s: &Span) -> SpanRecord {
+        let b = |h: &super::LocalHit| Boundary {
+            t: h.t,
+            surface: h.surface,
+            point: h.point,
+            normal: h.normal,
+        };
+        SpanRecord {
+            enter: b(&s.enter),
+            exit: b(&s.exit),
+        }
+    }
+}
+
+/// A CSG node's working: its children's intervals (in the node's space, with the shared t)
+/// and the intervals of the combination.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CsgWorking {
+    pub op: CsgOp,
+    pub children: Vec<CsgChildWorking>,
+    pub combined: Vec<SpanRecord>,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CsgChildWorking {
+    pub name: String,
+    pub shape: &'static str,
+    pub spans: Vec<SpanRecord>,
+    /// The child's own working when it is a CSG node itself.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub csg: Option<Box<CsgWorking>>,
+}
+
+/// A blob's root search on one ray: field samples, brackets and refinement steps.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct BlobWorking {
+    pub threshold: f64,
+    /// Bound on |dF/dt| used to rule pieces of the ray out.
+    pub lipschitz: f64,
+    /// Pieces of the ray inside the components' spheres of influence, [t_in, t_out].
+    pub segments: Vec<[f64; 2]>,
+    /// Every evaluation of the field, [t, field], in the order the search made them.
+    pub samples: Vec<[f64; 2]>,
+    pub brackets: Vec<BlobBracket>,
+    pub steps: Vec<BlobStep>,
+    pub roots: Vec<BlobRoot>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct BlobBracket {
+    pub a: f64,
+    pub b: f64,
+    pub field_a: f64,
+    pub field_b: f64,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct BlobRoot {
+    pub t: f64,
+    pub entering: bool,
 }
 
 impl Observer for Working {
@@ -64,6 +154,67 @@ impl Observer for Working {
     }
     fn mesh(&mut self, tested: usize, index: Option<usize>) {
         self.mesh = Some((tested, index));
+    }
+    fn csg_begin(&mut self, op: CsgOp) {
+        self.csg_stack.push(CsgWorking {
+            op,
+            children: Vec::new(),
+            combined: Vec::new(),
+        });
+    }
+    fn csg_child(&mut self, child: &CsgChild, spans: &[Span]) {
+        let nested = self.csg_nested.take().map(Box::new);
+        if let Some(node) = self.csg_stack.last_mut() {
+            node.children.push(CsgChildWorking {
+                name: child.name.clone(),
+                shape: child.shape.kind(),
+                spans: spans.iter().map(SpanRecord::of).collect(),
+                csg: nested,
+            });
+        }
+    }
+    fn csg_end(&mut self, combined: &[Span]) {
+        if let Some(mut node) = self.csg_stack.pop() {
+            node.combined = combined.iter().map(SpanRecord::of).collect();
+            if self.csg_stack.is_empty() {
+                self.csg = Some(node);
+            } else {
+                self.csg_nested = Some(node);
+            }
+        }
+    }
+    fn blob_search(&mut self, threshold: f64, lipschitz: f64, segments: &[[f64; 2]]) {
+        self.blob = Some(BlobWorking {
+            threshold,
+            lipschitz,
+            segments: segments.to_vec(),
+            ..Default::default()
+        });
+    }
+    fn blob_sample(&mut self, t: f64, field: f64) {
+        if let Some(b) = &mut self.blob {
+            b.samples.push([t, field]);
+        }
+    }
+    fn blob_bracket(&mut self, a: f64, b: f64, field_a: f64, field_b: f64) {
+        if let Some(w) = &mut self.blob {
+            w.brackets.push(BlobBracket {
+                a,
+                b,
+                field_a,
+                field_b,
+            });
+        }
+    }
+    fn blob_step(&mut self, step: BlobStep) {
+        if let Some(b) = &mut self.blob {
+            b.steps.push(step);
+        }
+    }
+    fn blob_root(&mut self, t: f64, entering: bool) {
+        if let Some(b) = &mut self.blob {
+            b.roots.push(BlobRoot { t, entering });
+        }
     }
 }
 

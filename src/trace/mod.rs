@@ -5,6 +5,7 @@
 //! [`Counter`]. There is no second copy of the maths anywhere.
 
 mod counter;
+pub mod forward;
 mod recorder;
 mod tree;
 mod whitted;

@@ -1,5 +1,5 @@
 use crate::math::Ray;
-use crate::shading::LightTerm;
+use crate::shading::{LightTerm, Shading};
 use crate::shapes::{LocalHit, NoObserver, Observer};
 use glam::DVec3;
 use serde::Serialize;
@@ -61,6 +61,8 @@ pub trait Recorder {
     /// BVH nodes visited by one query.
     fn nodes_visited(&mut self, _n: u32) {}
     fn hit(&mut self, _hit: &HitInfo) {}
+    /// The material colours at the hit being shaded (textures applied, switches folded in).
+    fn surface(&mut self, _s: &Shading) {}
     fn ambient(&mut self, _c: DVec3) {}
     fn light(&mut self, _term: &LightTerm) {}
     fn reflected(&mut self, _c: DVec3) {}

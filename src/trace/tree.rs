@@ -51,6 +51,12 @@ pub struct TestNode {
     pub triangles_tested: Option<usize>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub triangle: Option<usize>,
+    /// CSG objects: each child's intervals along the ray and their combination.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub csg: Option<crate::shapes::working::CsgWorking>,
+    /// Blobs: the field samples, brackets and refinement steps of the root search.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub blob: Option<crate::shapes::working::BlobWorking>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -200,6 +206,8 @@ impl Recorder for TreeRecorder<'_> {
             barycentric: w.barycentric,
             triangles_tested: w.mesh.map(|m| m.0),
             triangle: w.mesh.and_then(|m| m.1),
+            csg: w.csg,
+            blob: w.blob,
         };
         self.top().tests.push(node);
     }

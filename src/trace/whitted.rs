@@ -143,6 +143,7 @@ impl<'a> Tracer<'a> {
         let n = if entering { hit.normal } else { -hit.normal }; // faces the incoming ray
         let v = -d;
         let (s, transmit) = self.surface(hit);
+        rec.surface(&s);
         let eps = self.settings.epsilon * (1.0 + hit.point.abs().max_element());
         let above = hit.point + n * eps; // spawn point on the incoming side
         let below = hit.point - n * eps; // spawn point on the far side

@@ -512,7 +512,7 @@ fn draw_shape(
                 later(pending, &cands, name, 14.0, stroke);
             }
         }
-        Shape::Mesh(_) => {}
+        Shape::Mesh(_) | Shape::Csg(_) | Shape::Blob(_) => {}
     }
 }
 
@@ -656,7 +656,9 @@ fn view_for(r: &Report) -> (View, String) {
                     .to_string(),
             )
         }
-        Shape::Mesh(_) => (View::new(DVec3::ZERO, DVec3::X, DVec3::Y), "mesh".into()),
+        Shape::Mesh(_) | Shape::Csg(_) | Shape::Blob(_) => {
+            (View::new(DVec3::ZERO, DVec3::X, DVec3::Y), "mesh".into())
+        }
     }
 }
 
@@ -695,7 +697,7 @@ pub fn figure(r: &Report) -> Canvas {
             pts.push(v.uv(b.max));
         }
         Shape::Triangle(t) => pts.extend(t.v.iter().map(|p| v.uv(*p))),
-        Shape::Mesh(_) => {}
+        Shape::Mesh(_) | Shape::Csg(_) | Shape::Blob(_) => {}
     }
     v.fit(&pts);
 

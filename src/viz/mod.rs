@@ -3,10 +3,13 @@
 //! drawn, in order, with rounded coordinates) for snapshot tests.
 
 pub mod canvas;
+pub mod forward;
 pub mod intersect;
 pub mod labels;
 mod section;
 pub mod slice;
+pub mod solids;
+pub mod steps;
 pub mod style;
 
 pub use canvas::{Anchor, Canvas, Prim};

@@ -33,7 +33,7 @@ fn crossings(object: &Object, ray: &Ray, limit: f64, eps: f64) -> Vec<f64> {
 /// True for shapes whose crossings alternate outside/inside along any line.
 fn is_solid(shape: &Shape) -> bool {
     match shape {
-        Shape::Sphere(_) | Shape::Box(_) => true,
+        Shape::Sphere(_) | Shape::Box(_) | Shape::Csg(_) | Shape::Blob(_) => true,
         Shape::Cylinder(c) => c.capped,
         Shape::Cone(c) => c.capped,
         Shape::Plane(_) | Shape::Triangle(_) | Shape::Mesh(_) => false,

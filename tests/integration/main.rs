@@ -2,8 +2,11 @@
 
 mod book;
 mod common;
+mod cs1230;
+mod csg;
 mod explain;
 mod intersect;
 mod render;
 mod shading;
 mod shapes;
+mod steps;

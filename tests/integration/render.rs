@@ -136,3 +136,31 @@ fn depth_of_field_blurs_deterministically_and_can_be_switched_off() {
     assert_eq!(a, b, "same bytes on any thread count");
     assert_ne!(a, pinhole, "the aperture blurs the out-of-focus sphere");
 }
+
+/// The atomic write goes through a temporary file, which tempfile makes 0600; the PNG must
+/// still get the mode any other new file gets here (0666 less the umask).
+#[cfg(unix)]
+#[test]
+fn output_files_get_the_usual_permissions() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tmp("out-mode");
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("mode.png");
+    let plain = dir.join("plain.txt");
+    std::fs::write(&plain, b"x").unwrap();
+    let s = path("scenes/spheres.json");
+    let o = rtlab(&[
+        "render",
+        s.to_str().unwrap(),
+        "--width",
+        "8",
+        "--height",
+        "6",
+        "--quiet",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let mode = |p: &std::path::Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o777;
+    assert_eq!(mode(&out), mode(&plain));
+}

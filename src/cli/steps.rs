@@ -1,0 +1,291 @@
+//! `rtlab steps`: the image built up frame by frame, from ray casting to the final image.
+//!
+//! Output (DESIGN §3): in the folder `-o DIR`, frames `NNN-name.png` in order (each with its
+//! caption in a strip under the image, or the bare image with `--no-captions`),
+//! `index.json` = `[{"file": "001-visibility.png", "caption": "..."}, ...]` (version 1: add
+//! keys, never rename), and with `--gif` an animated `steps.gif`. When `-o` names a `.png`
+//! file instead, all frames (or those of `--frames`) go on one contact sheet.
+//! `--pixel X,Y` makes a storyboard of one pixel instead: frame k adds the k-th ray of its
+//! ray tree, drawn on the slice figure of [`crate::viz::slice`].
+//! `--forward` draws forward against backward tracing instead (see [`crate::trace::forward`]).
+
+use super::explain::{explain, parse_pixel};
+use super::render::with_threads;
+use super::RenderArgs;
+use crate::error::{Error, Result};
+use crate::output::{check_png, write_atomic, write_png};
+use crate::trace::forward::trace_photons;
+use crate::viz::slice::SlicePlane;
+use crate::viz::steps::{
+    captioned, contact_sheet, file_name, gif, plan, render_frames, storyboard,
+};
+use std::path::{Path, PathBuf};
+
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Scene file: native rtlab JSON or a CS1230 scenefile.
+    pub scene: PathBuf,
+    /// Output folder for the frames (created if missing), or a .png file for one contact
+    /// sheet of the frames (or, with --forward, the forward/backward figure).
+    #[arg(short, long, value_name = "DIR")]
+    pub output: PathBuf,
+    /// Also write steps.gif, an animation of the captioned frames.
+    #[arg(long)]
+    pub gif: bool,
+    /// Write the bare images, without a caption strip (the final frame is then byte for byte
+    /// the PNG `rtlab render` writes with the same options).
+    #[arg(long)]
+    pub no_captions: bool,
+    /// Only these frames on the contact sheet (comma-separated names, e.g. ambient,diffuse).
+    #[arg(long, value_name = "NAMES", value_delimiter = ',')]
+    pub frames: Vec<String>,
+    /// Columns of the contact sheet.
+    #[arg(long, value_name = "N", default_value_t = 3)]
+    pub columns: usize,
+    /// Storyboard of one pixel instead: frame k draws the first k rays of its ray tree (its
+    /// first sample) on a 2D slice of the scene.
+    #[arg(long, value_name = "X,Y")]
+    pub pixel: Option<String>,
+    /// The slice of --pixel: camera (the camera ray and the camera's up vector) or bounce
+    /// (the camera ray and its first reflection or refraction).
+    #[arg(long, value_name = "camera|bounce", default_value = "camera")]
+    pub plane: String,
+    /// Forward against backward tracing: trace photons from the lights and count how many
+    /// ever reach the film, next to the camera rays' image.
+    #[arg(long)]
+    pub forward: bool,
+    /// Photons traced from the lights with --forward.
+    #[arg(long, value_name = "N", default_value_t = 1_000_000)]
+    pub photons: u64,
+    /// Radius of the eye's pupil with --forward, in scene units (a pinhole would catch none).
+    #[arg(long, value_name = "R", default_value_t = 0.1)]
+    pub pupil: f64,
+    #[command(flatten)]
+    pub render: RenderArgs,
+    /// Worker threads (default: all cores). The frames are the same for any count.
+    #[arg(long, value_name = "N")]
+    pub threads: Option<usize>,
+    /// Print nothing but errors.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+/// One line of `index.json` (DESIGN §3), in the order of the frames.
+#[derive(serde::Serialize)]
+struct IndexEntry {
+    file: String,
+    caption: String,
+}
+
+fn is_png(p: &Path) -> bool {
+    p.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("png"))
+}
+
+pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
+    let sheet = is_png(&args.output);
+    if sheet {
+        check_png(&args.output, "-o")?;
+        if args.gif {
+            return Err(Error::arg(
+                "--gif",
+                "needs -o to be a folder (the GIF is written next to the frames)",
+            ));
+        }
+    } else if !args.frames.is_empty() {
+        return Err(Error::arg(
+            "--frames",
+            "chooses the frames of a contact sheet: give -o a .png file name",
+        ));
+    } else if args.output.is_file() {
+        return Err(Error::arg(
+            "-o",
+            format!(
+                "{} is a file; give a folder for the frames, or a .png name for a contact sheet",
+                args.output.display()
+            ),
+        ));
+    }
+    if args.columns == 0 {
+        return Err(Error::arg("--columns", "must be at least 1"));
+    }
+    if args.forward && args.pixel.is_some() {
+        return Err(Error::arg(
+            "--forward",
+            "cannot be combined with --pixel (forward tracing has no pixel to follow)",
+        ));
+    }
+    let scene = args.render.load(&args.scene)?;
+    if args.forward {
+        return forward(&args, &scene, out);
+    }
+    let (frames, skipped) = match &args.pixel {
+        Some(p) => {
+            let (x, y) = parse_pixel(p, scene.camera.width, scene.camera.height)?;
+            let plane = SlicePlane::parse(&args.plane).ok_or_else(|| {
+                Error::arg(
+                    "--plane",
+                    format!(
+                        "unknown plane \"{}\" (expected camera or bounce)",
+                        args.plane
+                    ),
+                )
+            })?;
+            let e = explain(&scene, x, y);
+            let sample = e
+                .samples
+                .iter()
+                .find(|s| s.pixel == [x, y])
+                .ok_or_else(|| Error::Other(format!("pixel ({x}, {y}) has no sample")))?;
+            let frames = storyboard(&scene, &sample.ray, (x, y), plane, e.color)?;
+            (frames, Vec::new())
+        }
+        None => {
+            let (steps, mut skipped) = plan(&scene);
+            let frames =
+                with_threads(args.threads, || render_frames(&scene, &steps, &mut skipped))?;
+            (frames, skipped)
+        }
+    };
+    let mut text = String::new();
+
+    if sheet {
+        let img = contact_sheet(&frames, &args.frames, args.columns)?;
+        write_png(&args.output, &img)?;
+        text += &format!("wrote {}\n", args.output.display());
+    } else {
+        let dir = &args.output;
+        std::fs::create_dir_all(dir)
+            .map_err(|e| Error::io(dir, format!("cannot create the folder: {e}")))?;
+        remove_old_frames(dir)?;
+        let mut index = Vec::new();
+        for (i, f) in frames.iter().enumerate() {
+            let name = file_name(i, f);
+            let img = if args.no_captions {
+                f.image.clone()
+            } else {
+                captioned(f, i + 1, frames.len())
+            };
+            write_png(&dir.join(&name), &img)?;
+            text += &format!("{name}  {}\n", f.caption);
+            index.push(IndexEntry {
+                file: name,
+                caption: f.caption.clone(),
+            });
+        }
+        let index_path = dir.join("index.json");
+        let body = serde_json::to_string_pretty(&index).expect("serialisable") + "\n";
+        write_atomic(&index_path, body.as_bytes())?;
+        if args.gif {
+            let path = dir.join("steps.gif");
+            let bytes = gif(&frames, &path)?;
+            write_atomic(&path, &bytes)?;
+            text += "steps.gif  all frames, animated\n";
+        }
+        text += &format!(
+            "wrote {} frame{} to {}\n",
+            frames.len(),
+            if frames.len() == 1 { "" } else { "s" },
+            dir.display()
+        );
+    }
+    for s in &skipped {
+        text += &format!("skipped {}: {}\n", s.name, s.reason);
+    }
+    if !args.quiet {
+        super::emit(out, &text)?;
+    }
+    Ok(())
+}
+
+/// Removes frames of an earlier run (`NNN-name.png`), so the folder holds one sequence.
+fn remove_old_frames(dir: &Path) -> Result<()> {
+    let entries = std::fs::read_dir(dir).map_err(|e| Error::io(dir, e.to_string()))?;
+    for e in entries.flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        let b = name.as_bytes();
+        let ours = name.ends_with(".png")
+            && b.len() > 8
+            && b[..3].iter().all(u8::is_ascii_digit)
+            && b[3] == b'-'
+            && name[4..name.len() - 4]
+                .bytes()
+                .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == b'-');
+        if ours {
+            std::fs::remove_file(e.path()).map_err(|err| Error::io(&e.path(), err.to_string()))?;
+        }
+    }
+    Ok(())
+}
+
+/// `--forward`: photons from the lights against camera rays from the eye.
+fn forward(args: &Args, scene: &crate::scene::Scene, out: &mut dyn std::io::Write) -> Result<()> {
+    if !(args.pupil > 0.0 && args.pupil.is_finite()) {
+        return Err(Error::arg("--pupil", "must be a positive number"));
+    }
+    if args.photons == 0 || args.photons > 100_000_000 {
+        return Err(Error::arg("--photons", "must be between 1 and 100000000"));
+    }
+    let path = if is_png(&args.output) {
+        args.output.clone()
+    } else {
+        std::fs::create_dir_all(&args.output)
+            .map_err(|e| Error::io(&args.output, format!("cannot create the folder: {e}")))?;
+        args.output.join("forward.png")
+    };
+    let settings = &scene.render;
+    let (fwd, backward) = with_threads(args.threads, || {
+        (
+            trace_photons(
+                scene,
+                args.photons,
+                args.pupil,
+                settings.max_depth.max(1),
+                settings.seed,
+            ),
+            crate::sampling::render(scene, settings, true, None),
+        )
+    })?;
+    let rays = backward.stats.as_ref().map(|s| s.rays).unwrap_or_default();
+    let img = backward.image.to_rgb8(settings.encoding);
+    crate::viz::forward::figure(&fwd, &img, rays.camera, rays.total, args.pupil).save(&path)?;
+    let n = &fwd.counts;
+    let pct = |k: u64| 100.0 * k as f64 / n.photons.max(1) as f64;
+    let text = format!(
+        "forward: {} photons from {} light(s), eye pupil radius {}, at most {} bounces\n\
+         \x20 hit a surface:            {:>10} ({:.4} %)\n\
+         \x20 reached the film:         {:>10} ({:.4} %)\n\
+         \x20 through the eye, off view:{:>10} ({:.4} %)\n\
+         \x20 escaped to the sky:       {:>10} ({:.4} %)\n\
+         \x20 absorbed:                 {:>10} ({:.4} %)\n\
+         \x20 ray segments traced:      {:>10}\n\
+         backward: {} camera rays ({}×{}, {} per pixel), every one reaches its pixel; {} rays in all\n\
+         wrote {}\n",
+        n.photons,
+        scene.lights.len(),
+        args.pupil,
+        settings.max_depth.max(1),
+        n.hit_surface,
+        pct(n.hit_surface),
+        n.reached_film,
+        pct(n.reached_film),
+        n.outside_view,
+        pct(n.outside_view),
+        n.escaped,
+        pct(n.escaped),
+        n.absorbed,
+        pct(n.absorbed),
+        n.rays,
+        rays.camera,
+        scene.camera.width,
+        scene.camera.height,
+        settings.spp,
+        rays.total,
+        path.display()
+    );
+    if !args.quiet {
+        super::emit(out, &text)?;
+    }
+    Ok(())
+}

@@ -1,0 +1,508 @@
+//! Arbitrary output variables (AOVs): instead of the colour, one quantity per pixel (how far,
+//! which way the surface faces, which object, one term of the lighting equation, how much
+//! work). Every AOV comes from the one tracer: an [`AovRecorder`] watches each camera sample
+//! and keeps what the camera ray's own hit saw; `depth`, `normal` and `object-id` run it with
+//! render settings that cast camera rays only (ray casting).
+//!
+//! Adding an AOV: one variant, one row in [`Aov::ALL`], one arm in [`Aov::display`].
+
+use super::{pixel_samples, render_reconstruct, Filter};
+use crate::math::Ray;
+use crate::scene::{Encoding, RenderSettings, Scene};
+use crate::shading::{LightTerm, Shading};
+use crate::shapes::NoObserver;
+use crate::trace::{trace_sample, End, HitInfo, RayKind, Recorder};
+use glam::{DVec2, DVec3};
+use rayon::prelude::*;
+
+/// One arbitrary output variable (DESIGN §3 `--aov`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Aov {
+    Depth,
+    Normal,
+    Albedo,
+    ObjectId,
+    Ambient,
+    Diffuse,
+    Specular,
+    Reflection,
+    Transmission,
+    Shadow,
+    RayDepth,
+    Cost,
+}
+
+impl Aov {
+    /// Every AOV: its command-line name and what its picture shows.
+    pub const ALL: &'static [(Aov, &'static str, &'static str)] = &[
+        (
+            Aov::Depth,
+            "depth",
+            "distance t along the camera ray (near white, far dark, by 1/t)",
+        ),
+        (
+            Aov::Normal,
+            "normal",
+            "world-space surface normal n shown as 0.5 + 0.5·n",
+        ),
+        (
+            Aov::Albedo,
+            "albedo",
+            "the diffuse colour kd·Od at the first hit (textures applied)",
+        ),
+        (
+            Aov::ObjectId,
+            "object-id",
+            "which object the camera ray hits, one colour each",
+        ),
+        (Aov::Ambient, "ambient", "ka·La·Oa at the first hit"),
+        (
+            Aov::Diffuse,
+            "diffuse",
+            "Σ f_att·L·kd·Od·(n·l) at the first hit (shadows applied)",
+        ),
+        (
+            Aov::Specular,
+            "specular",
+            "Σ f_att·L·ks·Os·(r·v)^n at the first hit (shadows applied)",
+        ),
+        (
+            Aov::Reflection,
+            "reflection",
+            "ks·Or·I_r: what the reflection ray brings back",
+        ),
+        (
+            Aov::Transmission,
+            "transmission",
+            "kt·Ot·I_t: what the refraction/transmission ray brings back",
+        ),
+        (
+            Aov::Shadow,
+            "shadow",
+            "fraction of the first hit's shadow rays that reach their light",
+        ),
+        (
+            Aov::RayDepth,
+            "ray-depth",
+            "deepest reflection/refraction level the sample reached",
+        ),
+        (
+            Aov::Cost,
+            "cost",
+            "intersection tests + BVH nodes visited per pixel",
+        ),
+    ];
+
+    pub fn parse(s: &str) -> Option<Aov> {
+        Self::ALL.iter().find(|r| r.1 == s).map(|r| r.0)
+    }
+    pub fn name(self) -> &'static str {
+        Self::row(self).1
+    }
+    pub fn describe(self) -> &'static str {
+        Self::row(self).2
+    }
+    fn row(self) -> &'static (Aov, &'static str, &'static str) {
+        Self::ALL
+            .iter()
+            .find(|r| r.0 == self)
+            .expect("every AOV has a row")
+    }
+    pub fn names() -> Vec<&'static str> {
+        Self::ALL.iter().map(|r| r.1).collect()
+    }
+
+    /// Traced with camera rays only (no lights, no secondary rays): pure visibility.
+    pub fn camera_only(self) -> bool {
+        matches!(self, Aov::Depth | Aov::Normal | Aov::ObjectId)
+    }
+
+    /// A radiance (a term of the lighting equation) encoded like the image, rather than a
+    /// false-colour picture of some other quantity.
+    pub fn is_radiance(self) -> bool {
+        matches!(
+            self,
+            Aov::Albedo
+                | Aov::Ambient
+                | Aov::Diffuse
+                | Aov::Specular
+                | Aov::Reflection
+                | Aov::Transmission
+        )
+    }
+
+    /// The render settings this AOV is traced with.
+    pub fn settings(self, base: &RenderSettings) -> RenderSettings {
+        let mut s = base.clone();
+        if self.camera_only() {
+            // Ray casting: the camera ray's closest hit and nothing else.
+            s.max_depth = 0;
+            s.shadows = false;
+            s.diffuse = false;
+            s.specular = false;
+            s.reflections = false;
+            s.refractions = false;
+        }
+        s
+    }
+
+    /// The displayed colour of one sample, given the image-wide ranges.
+    fn display(self, s: &AovSample, r: &Ranges) -> DVec3 {
+        let Some(hit) = s.hit else {
+            return DVec3::ZERO;
+        };
+        match self {
+            Aov::Depth => {
+                // Scaled by 1/t (like a disparity map): a floor running to the horizon would
+                // otherwise leave everything near the camera the same white.
+                let (a, b) = (1.0 / r.near.max(1e-9), 1.0 / r.far.max(1e-9));
+                let x = ((1.0 / hit.t.max(1e-9) - b) / (a - b).max(1e-12)).clamp(0.0, 1.0);
+                DVec3::splat(0.2 + 0.8 * x)
+            }
+            Aov::Normal => 0.5 + 0.5 * hit.normal,
+            Aov::ObjectId => object_color(hit.object),
+            Aov::Albedo => s.albedo,
+            Aov::Ambient => s.ambient,
+            Aov::Diffuse => s.diffuse,
+            Aov::Specular => s.specular,
+            Aov::Reflection => s.reflection,
+            Aov::Transmission => s.transmission,
+            Aov::Shadow => match s.shadow_rays {
+                0 => DVec3::new(0.08, 0.1, 0.3),
+                n => DVec3::splat(s.shadow_reached as f64 / n as f64),
+            },
+            Aov::RayDepth => heat(s.ray_depth as f64 / r.max_depth.max(1) as f64),
+            Aov::Cost => heat(s.cost as f64 / r.max_cost.max(1) as f64),
+        }
+    }
+}
+
+/// The winning hit of the camera ray, as the AOVs need it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AovHit {
+    pub object: usize,
+    pub t: f64,
+    pub normal: DVec3,
+}
+
+/// What one camera sample saw at its own first hit (the terms are those of the camera ray's
+/// node, exactly as `explain` shows them).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct AovSample {
+    pub hit: Option<AovHit>,
+    pub albedo: DVec3,
+    pub ambient: DVec3,
+    pub diffuse: DVec3,
+    pub specular: DVec3,
+    pub reflection: DVec3,
+    pub transmission: DVec3,
+    /// Shadow rays cast from the first hit, and how many reached their light.
+    pub shadow_rays: u32,
+    pub shadow_reached: u32,
+    /// Deepest reflection/refraction level reached (0: the camera ray only).
+    pub ray_depth: u32,
+    /// Intersection tests + BVH nodes visited, over the whole tree of the sample.
+    pub cost: u64,
+}
+
+/// Watches one sample: the camera ray's own events (open == 1) fill the terms; every ray
+/// adds to the cost and the depth.
+#[derive(Debug, Default)]
+pub struct AovRecorder {
+    pub sample: AovSample,
+    /// Rays begun and not yet ended: 1 while the camera ray itself is being shaded.
+    open: u32,
+    /// A shadow ray of the camera ray's hit is in flight.
+    primary_shadow: bool,
+    obs: NoObserver,
+}
+
+impl AovRecorder {
+    /// Starts a new sample.
+    pub fn reset(&mut self) {
+        *self = AovRecorder::default();
+    }
+}
+
+impl Recorder for AovRecorder {
+    type Obs = NoObserver;
+    fn observer(&mut self) -> &mut NoObserver {
+        &mut self.obs
+    }
+    fn begin_ray(&mut self, kind: RayKind, depth: u32, _ray: &Ray) {
+        if kind == RayKind::Shadow {
+            self.primary_shadow = self.open == 1;
+        } else {
+            self.sample.ray_depth = self.sample.ray_depth.max(depth);
+        }
+        self.open += 1;
+    }
+    fn tested(&mut self, _o: usize, _t: Option<f64>, _t_max: f64, _r: &Ray) {
+        self.sample.cost += 1;
+    }
+    fn nodes_visited(&mut self, n: u32) {
+        self.sample.cost += n as u64;
+    }
+    fn hit(&mut self, hit: &HitInfo) {
+        if self.open == 1 {
+            self.sample.hit = Some(AovHit {
+                object: hit.object,
+                t: hit.t,
+                normal: hit.normal,
+            });
+        }
+    }
+    fn surface(&mut self, s: &Shading) {
+        if self.open == 1 {
+            self.sample.albedo = s.diffuse;
+        }
+    }
+    fn ambient(&mut self, c: DVec3) {
+        if self.open == 1 {
+            self.sample.ambient += c;
+        }
+    }
+    fn light(&mut self, term: &LightTerm) {
+        if self.open == 1 {
+            self.sample.diffuse += term.diffuse;
+            self.sample.specular += term.specular;
+        }
+    }
+    fn reflected(&mut self, c: DVec3) {
+        if self.open == 1 {
+            self.sample.reflection += c;
+        }
+    }
+    fn transmitted(&mut self, c: DVec3) {
+        if self.open == 1 {
+            self.sample.transmission += c;
+        }
+    }
+    fn end_ray(&mut self, _color: DVec3, end: End, _clamped: bool) {
+        self.open -= 1;
+        if self.open == 1 && self.primary_shadow {
+            self.primary_shadow = false;
+            self.sample.shadow_rays += 1;
+            if end == End::Miss {
+                self.sample.shadow_reached += 1;
+            }
+        }
+    }
+}
+
+/// Every sample of every pixel, row-major, with its film position.
+pub struct AovSamples {
+    pub width: u32,
+    pub height: u32,
+    pub pixels: Vec<Vec<(DVec2, AovSample)>>,
+}
+
+/// Traces every camera sample of the image with an [`AovRecorder`] (rows in parallel,
+/// gathered in order: the result does not depend on the thread count).
+pub fn trace_aov_samples(scene: &Scene, settings: &RenderSettings) -> AovSamples {
+    let (w, h) = (scene.camera.width, scene.camera.height);
+    let rows: Vec<Vec<Vec<(DVec2, AovSample)>>> = (0..h)
+        .into_par_iter()
+        .map(|y| {
+            let mut rec = AovRecorder::default();
+            (0..w)
+                .map(|x| {
+                    pixel_samples(settings.sampler, settings.spp, settings.seed, x, y)
+                        .into_iter()
+                        .enumerate()
+                        .map(|(k, film)| {
+                            rec.reset();
+                            trace_sample(scene, settings, x, y, k as u32, film, &mut rec);
+                            (film, rec.sample)
+                        })
+                        .collect()
+                })
+                .collect()
+        })
+        .collect();
+    AovSamples {
+        width: w,
+        height: h,
+        pixels: rows.into_iter().flatten().collect(),
+    }
+}
+
+/// Image-wide values the false colours are scaled by.
+#[derive(Debug, Clone, Copy)]
+struct Ranges {
+    near: f64,
+    far: f64,
+    max_depth: u32,
+    max_cost: u64,
+}
+
+/// An AOV made visible, with the sentence that says how to read it.
+pub struct AovImage {
+    pub aov: Aov,
+    pub image: image::RgbImage,
+    /// How to read the colours, with the ranges actually used.
+    pub legend: String,
+}
+
+/// Renders one AOV of the scene as an image.
+pub fn render_aov(scene: &Scene, base: &RenderSettings, aov: Aov) -> AovImage {
+    let settings = aov.settings(base);
+    let samples = trace_aov_samples(scene, &settings);
+    let (w, h) = (samples.width, samples.height);
+
+    let mut ts: Vec<f64> = samples
+        .pixels
+        .iter()
+        .flatten()
+        .filter_map(|(_, s)| s.hit.map(|h| h.t))
+        .collect();
+    ts.sort_by(f64::total_cmp);
+    let pct = |p: f64| -> f64 {
+        if ts.is_empty() {
+            0.0
+        } else {
+            ts[((ts.len() - 1) as f64 * p).round() as usize]
+        }
+    };
+    let pixel_cost = |px: &Vec<(DVec2, AovSample)>| px.iter().map(|s| s.1.cost).sum::<u64>();
+    let ranges = Ranges {
+        // Percentiles, not min/max: one floor pixel at the horizon would squash the rest.
+        near: pct(0.02),
+        far: pct(0.98),
+        max_depth: settings.max_depth,
+        max_cost: samples.pixels.iter().map(pixel_cost).max().unwrap_or(0),
+    };
+
+    let filter = Filter::new(settings.filter);
+    let colors: Vec<DVec3> = (0..h)
+        .into_par_iter()
+        .flat_map_iter(|y| {
+            let (samples, ranges, filter) = (&samples, &ranges, &filter);
+            (0..w).map(move |x| {
+                if aov == Aov::Cost {
+                    // Per pixel, not filtered: the work this pixel's samples caused.
+                    let c = pixel_cost(&samples.pixels[(y * w + x) as usize]);
+                    return heat(c as f64 / ranges.max_cost.max(1) as f64);
+                }
+                render_reconstruct(filter, x, y, w, h, |qx, qy| {
+                    samples.pixels[(qy * w + qx) as usize]
+                        .iter()
+                        .map(|(film, s)| (*film, aov.display(s, ranges)))
+                        .collect()
+                })
+                .0
+            })
+        })
+        .collect();
+    let encoding = if aov.is_radiance() {
+        settings.encoding
+    } else {
+        Encoding::Clamp
+    };
+    let mut image = image::RgbImage::new(w, h);
+    for (p, c) in image.pixels_mut().zip(&colors) {
+        *p = image::Rgb(super::encode(*c, encoding));
+    }
+    let legend = legend(aov, &ranges, scene);
+    AovImage { aov, image, legend }
+}
+
+fn legend(aov: Aov, r: &Ranges, scene: &Scene) -> String {
+    let head = format!("{}: {}", aov.name(), aov.describe());
+    let how = match aov {
+        Aov::Depth if r.far <= 0.0 => "black: no ray hits anything".into(),
+        Aov::Depth => format!(
+            "brightness 0.2 + 0.8·(1/t − 1/far)/(1/near − 1/far), white: t <= {:.3} (near), dark grey: t >= {:.3} (far; 2nd and 98th percentile of the hits), black: no hit",
+            r.near, r.far
+        ),
+        Aov::Normal => "x → red, y → green, z → blue; black: no hit".into(),
+        Aov::ObjectId => {
+            let names: Vec<String> = (0..scene.objects.len())
+                .map(|i| {
+                    let c = super::encode(object_color(i), Encoding::Clamp);
+                    format!(
+                        "{} #{:02x}{:02x}{:02x}",
+                        scene.object_name(i),
+                        c[0],
+                        c[1],
+                        c[2]
+                    )
+                })
+                .collect();
+            format!("black: no hit; {}", names.join(", "))
+        }
+        Aov::Shadow => {
+            "white: every shadow ray reached its light, black: all blocked, dark blue: faces away from every light (no shadow ray), black background: no hit".into()
+        }
+        Aov::RayDepth => format!(
+            "heat map, black: 0 (camera ray only) to white: {} (max depth)",
+            r.max_depth
+        ),
+        Aov::Cost => format!("heat map, black: 0 to white: {} per pixel", r.max_cost),
+        _ => "linear radiance, encoded like the image".into(),
+    };
+    format!("{head}; {how}")
+}
+
+/// A distinct, stable colour for object `i`: hues spaced by the golden angle.
+pub fn object_color(i: usize) -> DVec3 {
+    let hue = (i as f64 * 0.618_033_988_749_895 + 0.1).fract();
+    let (s, v) = if i & 1 == 0 {
+        (0.7, 0.95)
+    } else {
+        (0.55, 0.75)
+    };
+    hsv(hue, s, v)
+}
+
+fn hsv(h: f64, s: f64, v: f64) -> DVec3 {
+    let k = |n: f64| {
+        let k = (n + h * 6.0) % 6.0;
+        v - v * s * k.min(4.0 - k).clamp(0.0, 1.0)
+    };
+    DVec3::new(k(5.0), k(3.0), k(1.0))
+}
+
+/// A heat map from black (0) through purple, red and yellow to white (1).
+pub fn heat(x: f64) -> DVec3 {
+    const STOPS: [[f64; 3]; 5] = [
+        [0.0, 0.0, 0.0],
+        [0.35, 0.05, 0.55],
+        [0.85, 0.2, 0.15],
+        [1.0, 0.8, 0.1],
+        [1.0, 1.0, 1.0],
+    ];
+    let x = if x.is_nan() { 0.0 } else { x.clamp(0.0, 1.0) } * 4.0;
+    let i = (x.floor() as usize).min(3);
+    let f = x - i as f64;
+    DVec3::from(STOPS[i]).lerp(DVec3::from(STOPS[i + 1]), f)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    #[test]
+    fn names_round_trip() {
+        for &(aov, name, _) in Aov::ALL {
+            assert_eq!(Aov::parse(name), Some(aov));
+            assert_eq!(aov.name(), name);
+        }
+        assert_eq!(Aov::parse("colour"), None);
+    }
+    #[test]
+    fn object_colours_differ() {
+        let c: Vec<[u8; 3]> = (0..12)
+            .map(|i| super::super::encode(object_color(i), Encoding::Clamp))
+            .collect();
+        for i in 0..c.len() {
+            for j in 0..i {
+                assert_ne!(c[i], c[j], "objects {i} and {j}");
+            }
+        }
+    }
+    #[test]
+    fn heat_ends() {
+        assert_eq!(heat(0.0), DVec3::ZERO);
+        assert_eq!(heat(1.0), DVec3::ONE);
+    }
+}
