@@ -101,6 +101,13 @@ pub struct QuadraticJson {
     pub rounded_to_zero: bool,
 }
 
+/// A linear equation t = numerator / denominator (the plane: n·(Q0 − P) / n·d).
+#[derive(Debug, Clone, Serialize)]
+pub struct LinearJson {
+    pub numerator: f64,
+    pub denominator: f64,
+}
+
 #[derive(Debug, Clone, Serialize)]
 pub struct CandidateJson {
     pub t: f64,
@@ -136,6 +143,9 @@ pub struct Report {
     pub shape: &'static str,
     pub ray: RayJson,
     pub quadratic: Option<QuadraticJson>,
+    /// Shapes solved by one division (the plane): added to the contract's fields.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub linear: Option<LinearJson>,
     pub candidates: Vec<CandidateJson>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub barycentric: Option<BarycentricJson>,
@@ -378,6 +388,10 @@ pub fn report(name: &'static str, shape: Shape, ray: Ray) -> Report {
             direction: p(ray.dir),
         },
         quadratic,
+        linear: w.linear.first().map(|(_, n, d)| LinearJson {
+            numerator: *n,
+            denominator: *d,
+        }),
         candidates: w
             .candidates
             .iter()
@@ -497,6 +511,30 @@ pub fn text(r: &Report) -> String {
                 tiny(q.discriminant),
                 TANGENT_TOLERANCE,
                 TANGENT_TOLERANCE * scale
+            );
+        }
+    }
+    if let Some(l) = &r.linear {
+        if l.denominator == 0.0 {
+            let _ = writeln!(
+                o,
+                "  n·d = 0: the ray is parallel to the plane, no root (n·(Q0 − P) = {}: {})",
+                short(l.numerator),
+                if l.numerator == 0.0 {
+                    "the ray lies in the plane"
+                } else {
+                    "it runs beside it"
+                }
+            );
+        } else {
+            let _ = writeln!(
+                o,
+                "  n·(Q0 − P) = {}, n·d = {}: t = {} / {} = {}",
+                short(l.numerator),
+                short(l.denominator),
+                short(l.numerator),
+                short(l.denominator),
+                short(l.numerator / l.denominator)
             );
         }
     }

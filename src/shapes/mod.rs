@@ -48,6 +48,9 @@ pub trait Observer {
     /// A root of some equation: `why` is asked only by active observers, and says why a
     /// candidate that is not on the finite shape was tossed.
     fn candidate(&mut self, _c: Candidate, _why: impl FnOnce() -> String) {}
+    /// A linear equation t = numerator / denominator (a plane: n·(Q0 − P) / n·d), reported
+    /// before the division, so a zero denominator (a parallel ray) can be shown.
+    fn linear(&mut self, _label: &'static str, _numerator: f64, _denominator: f64) {}
     /// Cramer's rule for a triangle (also when the point lies outside).
     fn barycentric(&mut self, _b: &Barycentric) {}
     /// A mesh tested `n` triangles; the winning one was `index`.

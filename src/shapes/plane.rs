@@ -19,10 +19,12 @@ impl Plane {
         obs: &mut O,
     ) -> Option<LocalHit> {
         let denom = self.normal.dot(ray.dir);
+        let numerator = self.normal.dot(self.point - ray.origin);
+        obs.linear("plane", numerator, denom);
         if denom.abs() < 1e-300 {
             return None; // parallel: no root at all
         }
-        let t = self.normal.dot(self.point - ray.origin) / denom;
+        let t = numerator / denom;
         let point = ray.at(t);
         let in_front = t >= t_min;
         obs.candidate(

@@ -35,6 +35,8 @@ pub struct Working {
     pub candidates: Vec<CandidateRecord>,
     pub barycentric: Option<Barycentric>,
     pub mesh: Option<(usize, Option<usize>)>,
+    /// Linear equations t = numerator / denominator, by surface.
+    pub linear: Vec<(&'static str, f64, f64)>,
     /// A CSG object's intervals: each child's and the combination.
     pub csg: Option<CsgWorking>,
     /// A blob's root search.
@@ -143,6 +145,9 @@ impl Observer for Working {
             note: String::new(),
             off_shape_reason,
         });
+    }
+    fn linear(&mut self, label: &'static str, numerator: f64, denominator: f64) {
+        self.linear.push((label, numerator, denominator));
     }
     fn barycentric(&mut self, b: &Barycentric) {
         self.barycentric = Some(*b);

@@ -463,8 +463,18 @@ fn draw_shape(
                         style::rgba(31, 119, 180, 60),
                     ),
                 ];
-                for (_, _, tri, col) in &subs {
-                    c.polygon(tri, Some((style::rgba(60, 60, 70, 90), 0.8)), Some(*col));
+                // A negative weight (the point is outside, across that corner's edge) is an
+                // area that counts against: outlined dashed, not filled.
+                for (_, w, tri, col) in &subs {
+                    if w.unwrap_or(0.0) >= 0.0 {
+                        c.polygon(tri, Some((style::rgba(60, 60, 70, 90), 0.8)), Some(*col));
+                    } else {
+                        let solid = Color::from_rgba(col.red(), col.green(), col.blue(), 1.0)
+                            .unwrap_or(style::ink());
+                        for k in 0..3 {
+                            line(c, labels, tri[k], tri[(k + 1) % 3], solid, 1.4, true);
+                        }
+                    }
                 }
                 c.polygon(&pts, Some((stroke, 2.2)), None);
                 block_polygon(labels, &pts);
@@ -646,7 +656,9 @@ fn view_for(r: &Report) -> (View, String) {
                     .to_string(),
             )
         }
-        Shape::Mesh(_) | Shape::Csg(_) | Shape::Blob(_) => (View::new(DVec3::ZERO, DVec3::X, DVec3::Y), "mesh".into()),
+        Shape::Mesh(_) | Shape::Csg(_) | Shape::Blob(_) => {
+            (View::new(DVec3::ZERO, DVec3::X, DVec3::Y), "mesh".into())
+        }
     }
 }
 
@@ -779,7 +791,14 @@ pub fn figure(r: &Report) -> Canvas {
             );
         }
         labels.block_point(p, 5.0);
-        let name = if r.candidates.len() == 1 {
+        let tangent = r
+            .quadratic
+            .as_ref()
+            .is_some_and(|q| q.roots == Roots::Tangent);
+        let name = if r.candidates.len() == 1 && tangent {
+            let pt: Vec<String> = cand.point.iter().map(|x| short(*x)).collect();
+            format!("t = {}: tangent at ({})", short(cand.t), pt.join(", "))
+        } else if r.candidates.len() == 1 {
             format!("t = {}", short(cand.t))
         } else {
             format!("t{} = {}", i + 1, short(cand.t))
@@ -803,6 +822,7 @@ pub fn height(r: &Report) -> u32 {
     let lines = 1
         + 2 * r.quadratic.is_some() as usize
         + r.barycentric.is_some() as usize
+        + r.linear.is_some() as usize
         + r.candidates.len().max(1)
         + r.hit.is_none() as usize;
     (PLOT[3] + 12.0 + 18.0 * lines as f32 + 10.0).ceil() as u32
@@ -881,6 +901,19 @@ fn panel(c: &mut Canvas, r: &Report) {
             format!("D = b² − 4ac = {}  →  {verdict}", short(q.discriminant))
         };
         say(c, &dtext, style::ink(), 13.0);
+    }
+    if let Some(l) = &r.linear {
+        let text = if l.denominator == 0.0 {
+            "n·d = 0: the ray is parallel to the plane, no root".to_string()
+        } else {
+            format!(
+                "t = n·(Q0 − P) / (n·d) = {} / {} = {}",
+                short(l.numerator),
+                short(l.denominator),
+                short(l.numerator / l.denominator)
+            )
+        };
+        say(c, &text, style::ink(), 13.0);
     }
     if let Some(b) = &r.barycentric {
         let text = match (b.alpha, b.beta, b.gamma, b.t) {

@@ -6,12 +6,13 @@ pub mod canvas;
 pub mod forward;
 pub mod intersect;
 pub mod labels;
+mod section;
 pub mod slice;
-pub mod steps;
 pub mod solids;
 pub mod compare;
 pub mod heatmap;
 pub mod samples;
+pub mod steps;
 pub mod style;
 
 pub use canvas::{Anchor, Canvas, Prim};

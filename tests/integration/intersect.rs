@@ -236,6 +236,11 @@ fn sphere_grazed_exactly_is_a_tangent() {
 fn plane_parallel_and_behind() {
     let j = intersect_json(&["plane", "--origin", "0,1,0", "--dir", "1,0,0"]);
     assert!(j["quadratic"].is_null());
+    // The routine reports n·d = 0 before it gives up: the text can say "parallel".
+    assert_eq!(f(&j["linear"]["denominator"]), 0.0);
+    close(&j["linear"]["numerator"], -1.0);
+    let o = rtlab(&["intersect", "plane", "--origin", "0,1,0", "--dir", "1,0,0"]);
+    assert!(String::from_utf8_lossy(&o.stdout).contains("parallel"));
     assert_eq!(j["candidates"].as_array().unwrap().len(), 0);
     assert!(j["hit"].is_null());
     let j = intersect_json(&["plane", "--origin", "0,1,0", "--dir", "0,1,0"]);
