@@ -58,18 +58,16 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
         use std::os::unix::fs::PermissionsExt;
         builder.permissions(std::fs::Permissions::from_mode(0o666));
     }
-    let mut tmp = builder
-        .tempfile_in(dir)
-        .map_err(|e| {
-            Error::io(
-                path,
-                format!(
-                    "cannot write into the folder {}: {}",
-                    dir.display(),
-                    reason(&e)
-                ),
-            )
-        })?;
+    let mut tmp = builder.tempfile_in(dir).map_err(|e| {
+        Error::io(
+            path,
+            format!(
+                "cannot write into the folder {}: {}",
+                dir.display(),
+                reason(&e)
+            ),
+        )
+    })?;
     tmp.write_all(bytes)
         .map_err(|e| Error::io(path, format!("cannot write: {}", reason(&e))))?;
     tmp.as_file().sync_all().ok();

@@ -25,7 +25,7 @@ use std::path::PathBuf;
 
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// circle (2D), sphere, plane, cylinder, cone, box or triangle.
+    /// circle (2D), sphere, plane, cylinder, cone, box or triangle; csg or blob with --spec.
     pub shape: String,
     /// Ray origin P (X,Y for the circle, X,Y,Z otherwise).
     #[arg(long, allow_hyphen_values = true)]
@@ -72,6 +72,10 @@ pub struct Args {
     /// triangle: corner c.
     #[arg(long, allow_hyphen_values = true)]
     pub c: Option<String>,
+    /// csg, blob: a JSON file describing the solid, written as an object of a scene's
+    /// "objects" (e.g. scenes/solids/dented-column.json).
+    #[arg(long, value_name = "FILE")]
+    pub spec: Option<PathBuf>,
     /// text (default) or json.
     #[arg(long, default_value = "text")]
     pub format: String,
@@ -672,6 +676,38 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
     }
     if let Some(o) = &args.output {
         crate::output::check_writable(o, "-o")?;
+    }
+    if args.shape == "csg" || args.shape == "blob" {
+        // Solids built from other solids: intervals along the ray, or a field's profile.
+        let spec = args.spec.as_deref().ok_or_else(|| {
+            Error::arg(
+                "--spec",
+                format!(
+                    "{} needs --spec FILE (a JSON description of the solid)",
+                    args.shape
+                ),
+            )
+        })?;
+        let v = |arg: &str, s: &str| -> Result<DVec3> {
+            let l = super::parse_list(arg, s, 3)?;
+            Ok(DVec3::new(l[0], l[1], l[2]))
+        };
+        let (origin, dir) = (v("--origin", &args.origin)?, v("--dir", &args.dir)?);
+        return super::intersect_solids::run(
+            &args.shape,
+            spec,
+            origin,
+            dir,
+            args.format == "json",
+            args.output.as_deref(),
+            out,
+        );
+    }
+    if args.spec.is_some() {
+        return Err(Error::arg(
+            "--spec",
+            format!("only csg and blob take --spec, not {}", args.shape),
+        ));
     }
     let (name, shape, ray) = shape_and_ray(&args)?;
     let r = report(name, shape, ray);

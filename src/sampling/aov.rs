@@ -360,7 +360,9 @@ pub fn render_aov(scene: &Scene, base: &RenderSettings, aov: Aov) -> AovImage {
         // The real render: the count is a property of the sampler, not of one AOV sample.
         let out = super::render(scene, &settings, false, None);
         let (w, h) = (scene.camera.width, scene.camera.height);
-        let spp = out.spp_map.unwrap_or_else(|| vec![settings.spp; (w * h) as usize]);
+        let spp = out
+            .spp_map
+            .unwrap_or_else(|| vec![settings.spp; (w * h) as usize]);
         let max = spp.iter().copied().max().unwrap_or(0);
         let image = crate::viz::heatmap::spp_heat_map(&spp, w, h, max);
         let legend = format!(

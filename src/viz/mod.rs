@@ -3,15 +3,15 @@
 //! drawn, in order, with rounded coordinates) for snapshot tests.
 
 pub mod canvas;
+pub mod compare;
 pub mod forward;
+pub mod heatmap;
 pub mod intersect;
 pub mod labels;
+pub mod samples;
 mod section;
 pub mod slice;
 pub mod solids;
-pub mod compare;
-pub mod heatmap;
-pub mod samples;
 pub mod steps;
 pub mod style;
 

@@ -480,53 +480,45 @@ fn snapshot_of_an_explained_csg_pixel() {
     settings.bind(|| insta::assert_yaml_snapshot!("csg_nested_tube_wall", v));
 }
 
-/// The figures of the book's chapter 5 made by the solids figure function (not yet lesson
-/// commands: `rtlab intersect csg|blob` is wired to it at merge). The committed PNGs must be
-/// what the function draws today; `RTLAB_BLESS=1` rewrites them.
-/// (shape, spec, origin, direction, committed figure)
-type SolidFigure = (&'static str, &'static str, [f64; 3], [f64; 3], &'static str);
-const SOLID_FIGURES: &[SolidFigure] = &[
-    (
-        "csg",
-        "scenes/solids/dented-column.json",
-        [-3.0, 0.8, 0.75],
-        [1.0, 0.0, 0.0],
-        "book/src/figures/05-csg-intervals.png",
-    ),
-    (
-        "blob",
-        "scenes/solids/thin-neck.json",
-        [-3.0, 0.2, 0.0],
-        [1.0, 0.0, 0.0],
-        "book/src/figures/05-blob-profile.png",
-    ),
-];
-
+/// `rtlab intersect csg|blob --spec FILE` reaches the solids' own report (the figures are
+/// lesson commands in lessons/05-csg-and-blobs.json, kept current by `lessons check`).
 #[test]
-fn intersect_solids_figures_are_current() {
-    for (shape, spec, o, d, fig) in SOLID_FIGURES {
-        let out = tmp(&format!("solid-{shape}.png"));
-        let mut text = Vec::new();
-        rtlab::cli::intersect_solids::run(
-            shape,
-            &path(spec),
-            DVec3::from_array(*o),
-            DVec3::from_array(*d),
-            false,
-            Some(&out),
-            &mut text,
-        )
-        .unwrap();
-        let made = std::fs::read(&out).unwrap();
-        if std::env::var("RTLAB_BLESS").is_ok() {
-            std::fs::write(path(fig), &made).unwrap();
-        }
-        let committed = std::fs::read(path(fig)).unwrap_or_default();
-        assert!(
-            made == committed,
-            "{fig} is stale: rerun with RTLAB_BLESS=1"
-        );
-    }
+fn intersect_routes_csg_and_blob_through_the_cli() {
+    let spec = path("scenes/solids/dented-column.json");
+    let o = rtlab(&[
+        "intersect",
+        "csg",
+        "--spec",
+        spec.to_str().unwrap(),
+        "--origin",
+        "-3,0.8,0.75",
+        "--dir",
+        "1,0,0",
+        "--format",
+        "json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["shape"], "csg");
+    let no_spec = rtlab(&["intersect", "blob", "--origin", "0,0,0", "--dir", "1,0,0"]);
+    assert_eq!(no_spec.status.code(), Some(2));
+    assert!(stderr(&no_spec).contains("--spec"), "{}", stderr(&no_spec));
+    let foreign = rtlab(&[
+        "intersect",
+        "sphere",
+        "--spec",
+        spec.to_str().unwrap(),
+        "--origin",
+        "0,0,5",
+        "--dir",
+        "0,0,-1",
+    ]);
+    assert_eq!(foreign.status.code(), Some(2));
+    assert!(
+        stderr(&foreign).contains("only csg and blob"),
+        "{}",
+        stderr(&foreign)
+    );
 }
 
 #[test]
