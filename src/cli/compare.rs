@@ -266,7 +266,7 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
             args.show_time,
             adaptive,
         )
-        .save(o)?;
+        .write_png(o)?;
     }
 
     let filter = scene.render.filter.name();

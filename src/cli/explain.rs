@@ -215,7 +215,7 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
                 caption: Some(format!("pixel ({x}, {y}), sample {}", s.index)),
                 ..Default::default()
             };
-            crate::viz::slice::draw(&scene, &s.ray, &opts)?.save(path)?;
+            crate::viz::slice::draw(&scene, &s.ray, &opts)?.write_png(path)?;
         }
     }
     let text = match args.format.as_str() {

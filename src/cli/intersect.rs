@@ -712,7 +712,7 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
     let (name, shape, ray) = shape_and_ray(&args)?;
     let r = report(name, shape, ray);
     if let Some(o) = &args.output {
-        crate::viz::intersect::figure(&r).save(o)?;
+        crate::viz::intersect::figure(&r).write_png(o)?;
     }
     let s = if args.format == "json" {
         serde_json::to_string_pretty(&r).expect("serialisable") + "\n"

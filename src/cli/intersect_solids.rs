@@ -119,7 +119,7 @@ pub fn run(
             ),
             _ => unreachable_figure()?,
         };
-        canvas.save(path)?;
+        canvas.write_png(path)?;
     }
     let text = if format_json {
         serde_json::to_string_pretty(&report).expect("serialisable") + "\n"

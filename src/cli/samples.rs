@@ -47,6 +47,6 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
         crate::sampling::validate_spp(kind, spp).map_err(|m| Error::arg("--spp", m))?;
         runs.push((kind, spp));
     }
-    crate::viz::samples::figure(&runs, args.seed).save(&args.output)?;
+    crate::viz::samples::figure(&runs, args.seed).write_png(&args.output)?;
     super::emit(out, &format!("wrote {}\n", args.output.display()))
 }

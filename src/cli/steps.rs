@@ -249,7 +249,8 @@ fn forward(args: &Args, scene: &crate::scene::Scene, out: &mut dyn std::io::Writ
     })?;
     let rays = backward.stats.as_ref().map(|s| s.rays).unwrap_or_default();
     let img = backward.image.to_rgb8(settings.encoding);
-    crate::viz::forward::figure(&fwd, &img, rays.camera, rays.total, args.pupil).save(&path)?;
+    crate::viz::forward::figure(&fwd, &img, rays.camera, rays.total, args.pupil)
+        .write_png(&path)?;
     let n = &fwd.counts;
     let pct = |k: u64| 100.0 * k as f64 / n.photons.max(1) as f64;
     let text = format!(

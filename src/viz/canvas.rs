@@ -458,7 +458,7 @@ impl Canvas {
     }
 
     /// Writes the figure as a PNG (atomically).
-    pub fn save(&self, path: &Path) -> Result<()> {
+    pub fn write_png(&self, path: &Path) -> Result<()> {
         crate::output::write_png(path, &self.to_rgb())
     }
 }
