@@ -60,6 +60,27 @@ pub fn test_object<R: Recorder>(
 }
 // ANCHOR_END: object_test
 
+// ANCHOR: object_any
+/// The any-hit twin of [`test_object`], for shadow rays: the shape may stop at its first hit.
+#[inline]
+pub fn test_object_any<R: Recorder>(
+    objects: &[Object],
+    i: usize,
+    ray: &Ray,
+    t_min: f64,
+    t_max: f64,
+    rec: &mut R,
+) -> Option<LocalHit> {
+    let object = &objects[i];
+    let local_ray = object.transform.ray_to_object(ray);
+    let hit = object
+        .shape
+        .occluded(&local_ray, t_min, t_max, rec.observer());
+    rec.tested(i, hit.map(|h| h.t), t_max, &local_ray);
+    hit
+}
+// ANCHOR_END: object_any
+
 impl Accel {
     pub fn build(kind: AccelKind, objects: &[Object]) -> Accel {
         let mut accel = Accel {
@@ -84,6 +105,7 @@ impl Accel {
 
     // ANCHOR: closest
     /// The closest hit with t in [t_min, t_max]: each test narrows t_max to the best t so far.
+    /// With the linear list (`unbounded` then holds every object) this is the lecture's loop.
     pub fn closest<R: Recorder>(
         &self,
         objects: &[Object],
@@ -92,7 +114,7 @@ impl Accel {
         mut t_max: f64,
         rec: &mut R,
     ) -> Option<(usize, LocalHit)> {
-        let mut best = None;
+        let mut best: Option<(usize, LocalHit)> = None;
         for &i in &self.unbounded {
             if let Some(h) = test_object(objects, i, ray, t_min, t_max, rec) {
                 t_max = h.t;
@@ -103,18 +125,28 @@ impl Accel {
             return best;
         }
         let mut visited = 0;
+        let mut best_index = best.map(|b| b.0);
         let found = self
             .bvh
-            .closest_counted(ray, t_min, t_max, &mut visited, |p, t_max| {
-                let i = self.bounded[p];
-                test_object(objects, i, ray, t_min, t_max, rec).map(|h| (h.t, h))
+            .closest(ray, t_min, t_max, &mut visited, |k, t_max| {
+                let i = self.bounded[self.bvh.prims[k] as usize];
+                let h = test_object(objects, i, ray, t_min, t_max, rec)?;
+                // An exact tie goes to the later object, as in the linear loop (which keeps the
+                // last of equal hits), so both accelerators pick the same surface.
+                if h.t == t_max && best_index.is_some_and(|b| b > i) {
+                    return None;
+                }
+                best_index = Some(i);
+                Some((h.t, (i, h)))
             });
         rec.nodes_visited(visited);
-        found.map(|(p, _, h)| (self.bounded[p], h)).or(best)
+        found.map(|(_, hit)| hit).or(best)
     }
     // ANCHOR_END: closest
 
-    /// Any hit with t in [t_min, t_max] (shadow rays): the first object found, not the closest.
+    // ANCHOR: occluded
+    /// Any hit with t in [t_min, t_max] (shadow rays): the first object found, not the
+    /// closest, and inside a mesh the first face found.
     pub fn occluded<R: Recorder>(
         &self,
         objects: &[Object],
@@ -124,23 +156,21 @@ impl Accel {
         rec: &mut R,
     ) -> Option<(usize, LocalHit)> {
         for &i in &self.unbounded {
-            if let Some(h) = test_object(objects, i, ray, t_min, t_max, rec) {
+            if let Some(h) = test_object_any(objects, i, ray, t_min, t_max, rec) {
                 return Some((i, h));
             }
         }
         let mut visited = 0;
         let mut found = None;
-        self.bvh.any(ray, t_min, t_max, &mut visited, |p| {
-            let i = self.bounded[p];
-            match test_object(objects, i, ray, t_min, t_max, rec) {
-                Some(h) => {
-                    found = Some((i, h));
-                    true
-                }
-                None => false,
-            }
+        self.bvh.any(ray, t_min, t_max, &mut visited, |k| {
+            let i = self.bounded[self.bvh.prims[k] as usize];
+            found = test_object_any(objects, i, ray, t_min, t_max, rec).map(|h| (i, h));
+            found.is_some()
         });
-        rec.nodes_visited(visited);
+        if !self.bvh.nodes.is_empty() {
+            rec.nodes_visited(visited);
+        }
         found
     }
+    // ANCHOR_END: occluded
 }

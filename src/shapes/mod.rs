@@ -24,7 +24,9 @@ pub use mesh::Mesh;
 pub use plane::Plane;
 pub use quadratic::{Quadratic, Roots};
 pub use sphere::Sphere;
-pub use triangle::{cramer, cramer_hit, Barycentric, Triangle};
+pub use triangle::{
+    cramer, cramer_hit, cramer_hit_prepared, cramer_prepared, Barycentric, Prepared, Triangle,
+};
 pub use working::{Candidate, Working};
 
 use crate::math::Ray;
@@ -46,6 +48,8 @@ pub trait Observer {
     fn barycentric(&mut self, _b: &Barycentric) {}
     /// A mesh tested `n` triangles; the winning one was `index`.
     fn mesh(&mut self, _tested: usize, _index: Option<usize>) {}
+    /// A shape's own BVH (a mesh's) visited `n` nodes.
+    fn bvh_nodes(&mut self, _n: u32) {}
 }
 
 /// The observer of `render`: sees nothing, costs nothing.
@@ -98,6 +102,23 @@ impl Shape {
             Shape::Cone(s) => s.intersect(ray, t_min, t_max, obs),
             Shape::Triangle(s) => s.intersect(ray, t_min, t_max, obs),
             Shape::Mesh(s) => s.intersect(ray, t_min, t_max, obs),
+        }
+    }
+
+    /// Is there any intersection with `t_min <= t <= t_max`? For shadow rays: a mesh stops at
+    /// the first face it finds; other shapes answer with their closest hit (as cheap).
+    /// Returns that hit; `is_some()` always equals `intersect(..).is_some()`.
+    #[inline]
+    pub fn occluded<O: Observer>(
+        &self,
+        ray: &Ray,
+        t_min: f64,
+        t_max: f64,
+        obs: &mut O,
+    ) -> Option<LocalHit> {
+        match self {
+            Shape::Mesh(s) => s.occluded(ray, t_min, t_max, obs),
+            _ => self.intersect(ray, t_min, t_max, obs),
         }
     }
 
