@@ -60,23 +60,51 @@ impl Node {
     // ANCHOR: slab
     /// Slab test: the t at which the ray enters this box, if it meets the box within
     /// [t_min, t_max]; `f64::INFINITY` when it misses.
+    ///
+    /// Per axis the ray enters through the plane it meets first (min for a positive
+    /// direction, max for a negative one, chosen once per ray in [`RayBox`]). A ray parallel
+    /// to a slab and starting exactly on its plane makes 0·∞ = NaN; the comparisons below
+    /// are written so that a NaN loses, which leaves that axis unconstrained: the box is
+    /// kept, never wrongly culled.
     #[inline(always)]
-    fn entry(&self, origin: DVec3, inv_dir: DVec3, t_min: f64, t_max: f64) -> f64 {
-        let tx0 = (self.min[0] as f64 - origin.x) * inv_dir.x;
-        let tx1 = (self.max[0] as f64 - origin.x) * inv_dir.x;
-        let ty0 = (self.min[1] as f64 - origin.y) * inv_dir.y;
-        let ty1 = (self.max[1] as f64 - origin.y) * inv_dir.y;
-        let tz0 = (self.min[2] as f64 - origin.z) * inv_dir.z;
-        let tz1 = (self.max[2] as f64 - origin.z) * inv_dir.z;
-        let near = tx0.min(tx1).max(ty0.min(ty1)).max(tz0.min(tz1)).max(t_min);
-        let far = tx0.max(tx1).min(ty0.max(ty1)).min(tz0.max(tz1)) * FAR_WIDEN;
-        if near <= far.min(t_max) {
+    fn entry(&self, r: &RayBox, t_min: f64, t_max: f64) -> f64 {
+        let (lo, hi) = (&self.min, &self.max);
+        let pick = |neg: bool, a: f32, b: f32| if neg { b } else { a };
+        let mut near = t_min;
+        let mut far = t_max * FAR_WIDEN;
+        for k in 0..3 {
+            let t_in = (pick(r.neg[k], lo[k], hi[k]) as f64 - r.origin[k]) * r.inv[k];
+            let t_out = (pick(r.neg[k], hi[k], lo[k]) as f64 - r.origin[k]) * r.inv[k] * FAR_WIDEN;
+            near = if t_in > near { t_in } else { near };
+            far = if t_out < far { t_out } else { far };
+        }
+        if near <= far {
             near
         } else {
             f64::INFINITY
         }
     }
     // ANCHOR_END: slab
+}
+
+/// A ray as the slab test wants it: origin, reciprocal direction and its signs, per axis.
+#[derive(Debug, Clone, Copy)]
+struct RayBox {
+    origin: [f64; 3],
+    inv: [f64; 3],
+    neg: [bool; 3],
+}
+
+impl RayBox {
+    #[inline(always)]
+    fn new(ray: &Ray) -> RayBox {
+        let inv = ray.dir.recip();
+        RayBox {
+            origin: ray.origin.to_array(),
+            inv: inv.to_array(),
+            neg: [inv.x < 0.0, inv.y < 0.0, inv.z < 0.0],
+        }
+    }
 }
 
 /// A BVH over primitives given by their boxes; it stores only their indices, in leaf order:
@@ -105,18 +133,18 @@ impl FBox {
             max: Vec3::new(up(b.max.x), up(b.max.y), up(b.max.z)),
         }
     }
-    #[inline]
+    #[inline(always)]
     fn union(self, o: FBox) -> FBox {
         FBox {
-            min: self.min.min(o.min),
-            max: self.max.max(o.max),
+            min: vmin(self.min, o.min),
+            max: vmax(self.max, o.max),
         }
     }
-    #[inline]
+    #[inline(always)]
     fn grow(self, p: Vec3) -> FBox {
         FBox {
-            min: self.min.min(p),
-            max: self.max.max(p),
+            min: vmin(self.min, p),
+            max: vmax(self.max, p),
         }
     }
     fn half_area(&self) -> f32 {
@@ -134,6 +162,18 @@ impl FBox {
             count,
         }
     }
+}
+
+// Plain comparisons (no NaN handling: build boxes hold no NaN), which compile to minss/maxss.
+#[inline(always)]
+fn vmin(a: Vec3, b: Vec3) -> Vec3 {
+    let m = |x: f32, y: f32| if x < y { x } else { y };
+    Vec3::new(m(a.x, b.x), m(a.y, b.y), m(a.z, b.z))
+}
+#[inline(always)]
+fn vmax(a: Vec3, b: Vec3) -> Vec3 {
+    let m = |x: f32, y: f32| if x > y { x } else { y };
+    Vec3::new(m(a.x, b.x), m(a.y, b.y), m(a.z, b.z))
 }
 
 /// The largest f32 not above x.
@@ -214,14 +254,15 @@ impl Bvh {
         let Some(root) = self.nodes.first() else {
             return None;
         };
-        let (o, inv) = (ray.origin, ray.dir.recip());
+        let r = RayBox::new(ray);
         let mut best = None;
         *visited += 1;
-        if root.entry(o, inv, t_min, t_max) == f64::INFINITY {
+        if root.entry(&r, t_min, t_max) == f64::INFINITY {
             return None;
         }
-        // Far children still to visit, with the t at which the ray enters them.
-        let mut stack = [(0u32, 0f64); STACK];
+        // Far children still to visit, packed as (entry t rounded down to f32) << 32 | index:
+        // half the bytes to clear per ray, and a rounded-down entry never culls wrongly.
+        let mut stack = [0u64; STACK];
         let mut sp = 0usize;
         let mut node = root;
         loop {
@@ -236,8 +277,8 @@ impl Bvh {
             } else {
                 let l = node.first as usize;
                 let (left, right) = (&self.nodes[l], &self.nodes[l + 1]);
-                let tl = left.entry(o, inv, t_min, t_max);
-                let tr = right.entry(o, inv, t_min, t_max);
+                let tl = left.entry(&r, t_min, t_max);
+                let tr = right.entry(&r, t_min, t_max);
                 *visited += (tl < f64::INFINITY) as u32 + (tr < f64::INFINITY) as u32;
                 if tl < f64::INFINITY {
                     if tr < f64::INFINITY {
@@ -247,7 +288,7 @@ impl Bvh {
                         } else {
                             (right, l, tl)
                         };
-                        stack[sp] = (far as u32, t_far);
+                        stack[sp] = ((down(t_far).to_bits() as u64) << 32) | far as u64;
                         sp += 1;
                         node = near;
                     } else {
@@ -265,8 +306,8 @@ impl Bvh {
                     return best;
                 }
                 sp -= 1;
-                let (index, t_enter) = stack[sp];
-                if t_enter <= t_max {
+                let (index, t_enter) = (stack[sp] as u32, f32::from_bits((stack[sp] >> 32) as u32));
+                if t_enter as f64 <= t_max {
                     node = &self.nodes[index as usize];
                     break;
                 }
@@ -290,9 +331,9 @@ impl Bvh {
         let Some(root) = self.nodes.first() else {
             return None;
         };
-        let (o, inv) = (ray.origin, ray.dir.recip());
+        let r = RayBox::new(ray);
         *visited += 1;
-        if root.entry(o, inv, t_min, t_max) == f64::INFINITY {
+        if root.entry(&r, t_min, t_max) == f64::INFINITY {
             return None;
         }
         let mut stack = [0u32; STACK];
@@ -309,8 +350,8 @@ impl Bvh {
             } else {
                 let l = node.first as usize;
                 let (left, right) = (&self.nodes[l], &self.nodes[l + 1]);
-                let hl = left.entry(o, inv, t_min, t_max) < f64::INFINITY;
-                let hr = right.entry(o, inv, t_min, t_max) < f64::INFINITY;
+                let hl = left.entry(&r, t_min, t_max) < f64::INFINITY;
+                let hr = right.entry(&r, t_min, t_max) < f64::INFINITY;
                 *visited += hl as u32 + hr as u32;
                 match (hl, hr) {
                     (true, true) => {
@@ -484,6 +525,8 @@ fn split(input: &Input, prims: &mut [u32], range: Range) -> Option<(usize, Range
         }
     }
     let mut best: Option<(f32, usize, usize)> = None; // cost, axis, first bin on the right
+                                                      // The union of bins i.. on each axis: the right child's box for a split before bin i.
+    let mut right_box = [[FBox::EMPTY; BINS]; 3];
     for axis in 0..3 {
         if scale[axis] == 0.0 {
             continue;
@@ -495,6 +538,7 @@ fn split(input: &Input, prims: &mut [u32], range: Range) -> Option<(usize, Range
             acc = acc.union(bin_box[axis][i]);
             count += bin_n[axis][i];
             right_cost[i] = acc.half_area() * count as f32;
+            right_box[axis][i] = acc;
         }
         let (mut acc, mut count) = (FBox::EMPTY, 0u32);
         for i in 0..BINS - 1 {
@@ -510,20 +554,39 @@ fn split(input: &Input, prims: &mut [u32], range: Range) -> Option<(usize, Range
         }
     }
     let area = range.bounds.half_area();
-    let mid = match best {
+    let (mid, lb, lc, rb, rc) = match best {
         Some((cost, axis, boundary)) => {
             let split_cost = TRAVERSAL_COST + cost / area.max(f32::MIN_POSITIVE);
             if n <= MAX_LEAF && split_cost >= n as f32 {
                 return None;
             }
-            partition(prims, |p| bin(input.centroids[p as usize], axis) < boundary)
+            // The children's boxes are the unions of their bins; only the centroid boxes
+            // need another pass, made while partitioning.
+            let lb = bin_box[axis][..boundary]
+                .iter()
+                .fold(FBox::EMPTY, |a, b| a.union(*b));
+            let rb = right_box[axis][boundary];
+            let (mut lc, mut rc) = (FBox::EMPTY, FBox::EMPTY);
+            let mid = partition(prims, |p| {
+                let c = input.centroids[p as usize];
+                let left = bin(c, axis) < boundary;
+                if left {
+                    lc = lc.grow(c);
+                } else {
+                    rc = rc.grow(c);
+                }
+                left
+            });
+            (mid, lb, lc, rb, rc)
         }
         // Every centroid in one point: no plane separates them; halve the list if too long.
-        None if n > MAX_LEAF => n / 2,
+        None if n > MAX_LEAF => {
+            let (lb, lc) = bounds_of(input, &prims[..n / 2]);
+            let (rb, rc) = bounds_of(input, &prims[n / 2..]);
+            (n / 2, lb, lc, rb, rc)
+        }
         None => return None,
     };
-    let (lb, lc) = bounds_of(input, &prims[..mid]);
-    let (rb, rc) = bounds_of(input, &prims[mid..]);
     let child = |start, end, bounds, centroid_bounds| Range {
         start,
         end,
@@ -540,7 +603,8 @@ fn split(input: &Input, prims: &mut [u32], range: Range) -> Option<(usize, Range
 // ANCHOR_END: sah
 
 /// Moves the primitives for which `left` holds to the front; returns how many there are.
-fn partition(prims: &mut [u32], left: impl Fn(u32) -> bool) -> usize {
+/// `left` is asked exactly once per primitive.
+fn partition(prims: &mut [u32], mut left: impl FnMut(u32) -> bool) -> usize {
     let (mut i, mut j) = (0, prims.len());
     while i < j {
         if left(prims[i]) {
