@@ -620,11 +620,137 @@ fn partition(prims: &mut [u32], mut left: impl FnMut(u32) -> bool) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::Rng;
 
     #[test]
     fn rounding_is_outward() {
-        for x in [0.1, -0.1, 1.0 / 3.0, -1e-30, 1e30, 0.0, 123456.789] {
+        for x in [
+            0.1,
+            -0.1,
+            1.0 / 3.0,
+            -1e-30,
+            1e30,
+            0.0,
+            123456.789,
+            1e300,
+            -1e300,
+        ] {
             assert!(down(x) as f64 <= x && up(x) as f64 >= x, "{x}");
+        }
+    }
+
+    fn random_boxes(n: usize, seed: u64) -> Vec<Aabb> {
+        let mut rng = Rng::new(&[seed]);
+        (0..n)
+            .map(|_| {
+                let c = DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64()) * 100.0;
+                let e = DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64()) * 3.0;
+                Aabb::new(c - e, c + e * 0.5)
+            })
+            .collect()
+    }
+
+    fn inside(inner: &Aabb, outer: &Aabb) -> bool {
+        inner.min.cmpge(outer.min).all() && inner.max.cmple(outer.max).all()
+    }
+
+    /// Every primitive in exactly one leaf, inside that leaf's box; every child's box inside
+    /// its parent's; leaves small; depth bounded (so the traversal stack cannot overflow).
+    fn check_invariants(boxes: &[Aabb], bvh: &Bvh) {
+        let mut seen = vec![0u32; boxes.len()];
+        let mut slots = vec![0u32; boxes.len()];
+        let mut stack = vec![0usize];
+        while let Some(i) = stack.pop() {
+            let node = &bvh.nodes[i];
+            if node.is_leaf() {
+                assert!(node.count as usize <= MAX_LEAF || boxes.len() <= MAX_LEAF);
+                for k in node.first..node.first + node.count {
+                    slots[k as usize] += 1;
+                    let p = bvh.prims[k as usize] as usize;
+                    seen[p] += 1;
+                    assert!(
+                        inside(&boxes[p], &node.bounds()),
+                        "primitive {p} outside its leaf"
+                    );
+                }
+            } else {
+                for c in [node.first as usize, node.first as usize + 1] {
+                    assert!(c > i, "children come after their parent");
+                    assert!(
+                        inside(&bvh.nodes[c].bounds(), &node.bounds()),
+                        "child {c} outside {i}"
+                    );
+                    stack.push(c);
+                }
+            }
+        }
+        assert!(seen.iter().all(|&n| n == 1), "every primitive exactly once");
+        assert!(
+            slots.iter().all(|&n| n == 1),
+            "leaves cover prims[] exactly"
+        );
+        assert!(bvh.depth() <= MAX_DEPTH);
+    }
+
+    #[test]
+    fn invariants_hold_small_and_large() {
+        for (n, seed) in [(1, 1), (2, 2), (7, 3), (100, 4), (5000, 5), (40_000, 6)] {
+            let boxes = random_boxes(n, seed);
+            check_invariants(&boxes, &Bvh::build(&boxes));
+        }
+    }
+
+    #[test]
+    fn identical_boxes_still_split_into_small_leaves() {
+        let boxes = vec![Aabb::new(DVec3::ZERO, DVec3::ONE); 1000];
+        let bvh = Bvh::build(&boxes);
+        check_invariants(&boxes, &bvh);
+    }
+
+    #[test]
+    fn build_is_deterministic_across_thread_counts() {
+        let boxes = random_boxes(30_000, 9);
+        let one = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap();
+        let four = rayon::ThreadPoolBuilder::new()
+            .num_threads(4)
+            .build()
+            .unwrap();
+        assert_eq!(
+            one.install(|| Bvh::build(&boxes)),
+            four.install(|| Bvh::build(&boxes))
+        );
+    }
+
+    /// Closest and any-hit over boxes-as-primitives agree with testing every box.
+    #[test]
+    fn traversal_matches_brute_force() {
+        let boxes = random_boxes(3000, 11);
+        let bvh = Bvh::build(&boxes);
+        let mut rng = Rng::new(&[12]);
+        for _ in 0..2000 {
+            let o = DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64()) * 140.0 - 20.0;
+            let d = DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64()) - 0.5;
+            let ray = Ray::new(o, d);
+            let inv = d.recip();
+            let brute = boxes
+                .iter()
+                .filter_map(|b| b.hit(&ray, inv, 0.0, f64::INFINITY))
+                .min_by(f64::total_cmp);
+            let found = bvh.closest(&ray, 0.0, f64::INFINITY, &mut 0, |k, t_max| {
+                boxes[bvh.prims[k] as usize]
+                    .hit(&ray, inv, 0.0, t_max)
+                    .map(|t| (t, t))
+            });
+            assert_eq!(found.map(|f| f.1), brute);
+            let any = bvh.any(&ray, 0.0, f64::INFINITY, &mut 0, |k| {
+                boxes[bvh.prims[k] as usize]
+                    .hit(&ray, inv, 0.0, f64::INFINITY)
+                    .is_some()
+            });
+            assert_eq!(any.is_some(), brute.is_some());
         }
     }
 }

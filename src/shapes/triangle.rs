@@ -137,6 +137,41 @@ mod tests {
         // The determinant is det[e1, e2, -d] = det[[1,0,0],[0,1,0],[0,0,1]] = 1.
         assert!((b.determinant - 1.0).abs() < 1e-15);
     }
+
+    /// The expanded determinants give exactly the bits of `DMat3::determinant`, and the
+    /// early-exit mesh test the same verdict and numbers as the plain solve.
+    #[test]
+    fn prepared_solve_is_bit_identical() {
+        use glam::DMat3;
+        let mut rng = crate::math::Rng::new(&[5]);
+        let mut p = || DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64()) * 4.0 - 2.0;
+        for _ in 0..5000 {
+            let v = [p(), p(), p()];
+            let ray = Ray::new(p() * 3.0, p());
+            let (e1, e2, s, m) = (v[1] - v[0], v[2] - v[0], ray.origin - v[0], -ray.dir);
+            let det = DMat3::from_cols(e1, e2, m).determinant();
+            let b = cramer(&v, &ray).unwrap();
+            assert_eq!(b.determinant.to_bits(), det.to_bits());
+            assert_eq!(
+                b.beta.to_bits(),
+                (DMat3::from_cols(s, e2, m).determinant() / det).to_bits()
+            );
+            assert_eq!(
+                b.gamma.to_bits(),
+                (DMat3::from_cols(e1, s, m).determinant() / det).to_bits()
+            );
+            assert_eq!(
+                b.t.to_bits(),
+                (DMat3::from_cols(e1, e2, s).determinant() / det).to_bits()
+            );
+            let inside = b.beta >= 0.0 && b.gamma >= 0.0 && b.beta + b.gamma <= 1.0;
+            let expect = (inside && b.t >= 0.0 && b.t <= 5.0).then_some(b);
+            assert_eq!(
+                cramer_hit_prepared(&Prepared::new(&v), &ray, 0.0, 5.0),
+                expect
+            );
+        }
+    }
 }
 
 /// Cramer's rule plus the inside and range tests, for meshes (no observer, no surface record).
