@@ -82,6 +82,24 @@ pub fn test_object_any<R: Recorder>(
 // ANCHOR_END: object_any
 
 impl Accel {
+    /// Seconds it takes to build everything a scene's rays traverse: the scene-level
+    /// structure and each mesh's own BVH and prepared faces (built again here, for
+    /// `--stats`; the scene keeps the ones made at load).
+    pub fn time_build(kind: AccelKind, objects: &[Object]) -> f64 {
+        let start = std::time::Instant::now();
+        std::hint::black_box(Accel::build(kind, objects));
+        let mut seen: Vec<*const crate::shapes::Mesh> = Vec::new();
+        for o in objects {
+            if let crate::shapes::Shape::Mesh(m) = &o.shape {
+                if !seen.contains(&std::sync::Arc::as_ptr(m)) {
+                    seen.push(std::sync::Arc::as_ptr(m));
+                    std::hint::black_box(crate::shapes::Mesh::build_bvh(&m.positions, &m.faces));
+                }
+            }
+        }
+        start.elapsed().as_secs_f64()
+    }
+
     pub fn build(kind: AccelKind, objects: &[Object]) -> Accel {
         let mut accel = Accel {
             linear: kind == AccelKind::Linear,

@@ -35,6 +35,8 @@ pub struct Working {
     pub candidates: Vec<CandidateRecord>,
     pub barycentric: Option<Barycentric>,
     pub mesh: Option<(usize, Option<usize>)>,
+    /// Nodes of the shape's own BVH (a mesh's) that the ray visited.
+    pub bvh_nodes: Option<u32>,
 }
 
 impl Observer for Working {
@@ -59,6 +61,9 @@ impl Observer for Working {
     }
     fn mesh(&mut self, tested: usize, index: Option<usize>) {
         self.mesh = Some((tested, index));
+    }
+    fn bvh_nodes(&mut self, n: u32) {
+        self.bvh_nodes = Some(n);
     }
 }
 
