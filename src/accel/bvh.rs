@@ -220,8 +220,9 @@ impl Bvh {
         if boxes.is_empty() {
             return Bvh::default();
         }
-        let boxes: Vec<FBox> = boxes.iter().map(FBox::from_f64).collect();
-        let centroids: Vec<Vec3> = boxes.iter().map(|b| (b.min + b.max) * 0.5).collect();
+        use rayon::prelude::*;
+        let boxes: Vec<FBox> = boxes.par_iter().map(FBox::from_f64).collect();
+        let centroids: Vec<Vec3> = boxes.par_iter().map(|b| (b.min + b.max) * 0.5).collect();
         let input = Input { boxes, centroids };
         let mut prims: Vec<u32> = (0..input.boxes.len() as u32).collect();
         let (bounds, centroid_bounds) = bounds_of(&input, &prims);
@@ -504,26 +505,50 @@ fn split(input: &Input, prims: &mut [u32], range: Range) -> Option<(usize, Range
     }
     let cb = range.centroid_bounds;
     let extent = cb.max - cb.min;
+    // Small nodes get fewer bins (as many as primitives, at least 4): the sweeps cost
+    // O(bins) and dominate for the many nodes near the leaves.
+    let bins = n.clamp(4, BINS);
     let mut scale = [0f32; 3];
     for axis in 0..3 {
         if extent[axis] > 0.0 {
-            scale[axis] = BINS as f32 * (1.0 - 1e-6) / extent[axis];
+            scale[axis] = bins as f32 * (1.0 - 1e-6) / extent[axis];
         }
     }
-    // One pass bins every primitive on all three axes.
-    let mut bin_box = [[FBox::EMPTY; BINS]; 3];
-    let mut bin_n = [[0u32; BINS]; 3];
     let bin = |c: Vec3, axis: usize| -> usize {
-        (((c[axis] - cb.min[axis]) * scale[axis]) as usize).min(BINS - 1)
+        (((c[axis] - cb.min[axis]) * scale[axis]) as usize).min(bins - 1)
     };
-    for &p in prims.iter() {
-        let (b, c) = (input.boxes[p as usize], input.centroids[p as usize]);
-        for axis in 0..3 {
-            let i = bin(c, axis);
-            bin_box[axis][i] = bin_box[axis][i].union(b);
-            bin_n[axis][i] += 1;
+    // One pass bins every primitive on all three axes (in parallel chunks for big nodes;
+    // unions and counts do not depend on the order, so the tree does not either).
+    let binned = |chunk: &[u32]| {
+        let mut bin_box = [[FBox::EMPTY; BINS]; 3];
+        let mut bin_n = [[0u32; BINS]; 3];
+        for &p in chunk {
+            let (b, c) = (input.boxes[p as usize], input.centroids[p as usize]);
+            for axis in 0..3 {
+                let i = bin(c, axis);
+                bin_box[axis][i] = bin_box[axis][i].union(b);
+                bin_n[axis][i] += 1;
+            }
         }
-    }
+        (bin_box, bin_n)
+    };
+    let (bin_box, bin_n) = if n >= PARALLEL_MIN * 4 {
+        use rayon::prelude::*;
+        prims.par_chunks(PARALLEL_MIN).map(binned).reduce(
+            || ([[FBox::EMPTY; BINS]; 3], [[0u32; BINS]; 3]),
+            |(mut ab, mut an), (bb, bn)| {
+                for axis in 0..3 {
+                    for i in 0..BINS {
+                        ab[axis][i] = ab[axis][i].union(bb[axis][i]);
+                        an[axis][i] += bn[axis][i];
+                    }
+                }
+                (ab, an)
+            },
+        )
+    } else {
+        binned(prims)
+    };
     let mut best: Option<(f32, usize, usize)> = None; // cost, axis, first bin on the right
                                                       // The union of bins i.. on each axis: the right child's box for a split before bin i.
     let mut right_box = [[FBox::EMPTY; BINS]; 3];
@@ -534,14 +559,14 @@ fn split(input: &Input, prims: &mut [u32], range: Range) -> Option<(usize, Range
         // Right-hand sweep: area · count of bins i.. for every i.
         let mut right_cost = [0f32; BINS];
         let (mut acc, mut count) = (FBox::EMPTY, 0u32);
-        for i in (1..BINS).rev() {
+        for i in (1..bins).rev() {
             acc = acc.union(bin_box[axis][i]);
             count += bin_n[axis][i];
             right_cost[i] = acc.half_area() * count as f32;
             right_box[axis][i] = acc;
         }
         let (mut acc, mut count) = (FBox::EMPTY, 0u32);
-        for i in 0..BINS - 1 {
+        for i in 0..bins - 1 {
             acc = acc.union(bin_box[axis][i]);
             count += bin_n[axis][i];
             if count == 0 || count as usize == n {

@@ -46,13 +46,17 @@ impl Mesh {
     /// Builds the BVH over the faces and the prepared faces in its leaf order (what `new`
     /// does; public so the benchmarks can time it alone).
     pub fn build_bvh(positions: &[DVec3], faces: &[[u32; 3]]) -> (Bvh, Vec<Prepared>) {
+        use rayon::prelude::*;
         let corners = |f: &[u32; 3]| f.map(|i| positions[i as usize]);
-        let boxes: Vec<Aabb> = faces.iter().map(|f| Aabb::around(&corners(f))).collect();
+        let boxes: Vec<Aabb> = faces
+            .par_iter()
+            .map(|f| Aabb::around(&corners(f)))
+            .collect();
         let bvh = Bvh::build(&boxes);
         drop(boxes);
         let prepared = bvh
             .prims
-            .iter()
+            .par_iter()
             .map(|&i| Prepared::new(&corners(&faces[i as usize])))
             .collect();
         (bvh, prepared)
