@@ -246,7 +246,7 @@ impl HarnessCamera {
         let fwd = norm(sub(c, eye));
         let right = norm(cross(fwd, [0.0, 1.0, 0.0]));
         let upv = cross(right, fwd);
-        let hh = (0.5f32 * 40.0 * 3.141_592_7 / 180.0).tan();
+        let hh = (0.5f32 * 40.0 * std::f32::consts::PI / 180.0).tan();
         let hw = hh * W as f32 / H as f32;
         HarnessCamera {
             eye,
@@ -495,6 +495,7 @@ struct MeshRow {
     name: String,
     triangles: usize,
     load_s: f64,
+    explain_ms: f64,
     build_ms: f64,
     camera: f64,
     mesh_only: f64,
@@ -540,6 +541,10 @@ fn bench_mesh(
     let t0 = Instant::now();
     let scene = pool.install(|| mesh_scene(obj, tmp));
     let load_s = t0.elapsed().as_secs_f64();
+    let t1 = Instant::now();
+    let e = rtlab::cli::explain::explain(&scene, scene.camera.width / 2, scene.camera.height / 2);
+    let explain_ms = t1.elapsed().as_secs_f64() * 1e3;
+    std::hint::black_box(e);
     let Shape::Mesh(mesh) = &scene.objects[0].shape else {
         unreachable!()
     };
@@ -612,6 +617,7 @@ fn bench_mesh(
         name: name.to_string(),
         triangles,
         load_s,
+        explain_ms,
         build_ms: median(b),
         camera: median(c),
         mesh_only: median(m),
@@ -665,8 +671,8 @@ fn print_mesh_table(rows: &[MeshRow]) {
     );
     for r in rows {
         print!(
-            "{:<17} rtlab hits {:>7} Σt {:.6e} occluded {}/{} | load {:.2} s, {:.0} bytes/triangle (mesh + BVH + prepared faces)",
-            r.name, r.hits, r.sum_t, r.occluded.1, r.occluded.0, r.load_s, r.bytes_per_tri
+            "{:<17} rtlab hits {:>7} Σt {:.6e} occluded {}/{} | load + build {:.2} s, then explain of a pixel {:.2} ms; {:.0} bytes/triangle (mesh + BVH + prepared faces)",
+            r.name, r.hits, r.sum_t, r.occluded.1, r.occluded.0, r.load_s, r.explain_ms, r.bytes_per_tri
         );
         if let Some(e) = &r.embree {
             print!(

@@ -252,9 +252,7 @@ impl Bvh {
         visited: &mut u32,
         mut test: impl FnMut(usize, f64) -> Option<(f64, T)>,
     ) -> Option<(usize, T)> {
-        let Some(root) = self.nodes.first() else {
-            return None;
-        };
+        let root = self.nodes.first()?;
         let r = RayBox::new(ray);
         let mut best = None;
         *visited += 1;
@@ -329,9 +327,7 @@ impl Bvh {
         visited: &mut u32,
         mut test: impl FnMut(usize) -> bool,
     ) -> Option<usize> {
-        let Some(root) = self.nodes.first() else {
-            return None;
-        };
+        let root = self.nodes.first()?;
         let r = RayBox::new(ray);
         *visited += 1;
         if root.entry(&r, t_min, t_max) == f64::INFINITY {

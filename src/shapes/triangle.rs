@@ -183,6 +183,8 @@ pub fn cramer_hit(v: &[DVec3; 3], ray: &Ray, t_min: f64, t_max: f64) -> Option<B
 /// [`cramer_hit`] on a prepared face. The verdict is `cramer_prepared` followed by the
 /// inside test; it is written here with the same expressions in the same order, stopping at
 /// the first failed condition, because most faces a ray is tested against are missed.
+// `!(x >= 0.0)` on purpose: a NaN must fail the test, as it fails `x >= 0.0` in `cramer_hit`.
+#[allow(clippy::neg_cmp_op_on_partial_ord)]
 #[inline(always)]
 pub fn cramer_hit_prepared(p: &Prepared, ray: &Ray, t_min: f64, t_max: f64) -> Option<Barycentric> {
     let s = ray.origin - p.a;
