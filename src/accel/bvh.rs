@@ -259,6 +259,17 @@ impl Bvh {
         if root.entry(&r, t_min, t_max) == f64::INFINITY {
             return None;
         }
+        if root.is_leaf() {
+            // A one-leaf tree (a scene with a single mesh): no stack to clear.
+            let first = root.first as usize;
+            for k in first..first + root.count as usize {
+                if let Some((t, data)) = test(k, t_max) {
+                    t_max = t;
+                    best = Some((k, data));
+                }
+            }
+            return best;
+        }
         // Far children still to visit, packed as (entry t rounded down to f32) << 32 | index:
         // half the bytes to clear per ray, and a rounded-down entry never culls wrongly.
         let mut stack = [0u64; STACK];
@@ -332,6 +343,10 @@ impl Bvh {
         *visited += 1;
         if root.entry(&r, t_min, t_max) == f64::INFINITY {
             return None;
+        }
+        if root.is_leaf() {
+            let first = root.first as usize;
+            return (first..first + root.count as usize).find(|&k| test(k));
         }
         let mut stack = [0u32; STACK];
         let mut sp = 0usize;
@@ -748,10 +763,16 @@ mod tests {
     /// Closest and any-hit over boxes-as-primitives agree with testing every box.
     #[test]
     fn traversal_matches_brute_force() {
-        let boxes = random_boxes(3000, 11);
-        let bvh = Bvh::build(&boxes);
+        // One box (a one-leaf tree), a few, many.
+        for (n, rays) in [(1, 300), (5, 300), (3000, 2000)] {
+            brute_force_check(&random_boxes(n, 11), rays);
+        }
+    }
+
+    fn brute_force_check(boxes: &[Aabb], rays: usize) {
+        let bvh = Bvh::build(boxes);
         let mut rng = Rng::new(&[12]);
-        for _ in 0..2000 {
+        for _ in 0..rays {
             let o = DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64()) * 140.0 - 20.0;
             let d = DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64()) - 0.5;
             let ray = Ray::new(o, d);
