@@ -1,6 +1,7 @@
 //! One module per subcommand, each an args struct and a `run`. Options shared by every
 //! command that renders are one flattened group, [`RenderArgs`].
 
+pub mod convert;
 pub mod explain;
 pub mod explain_text;
 pub mod lessons;
@@ -38,6 +39,8 @@ pub enum Command {
     Validate(validate::Args),
     /// Print the JSON Schema of the native scene format.
     Schema(schema::Args),
+    /// Write the native rtlab equivalent of a CS1230 scenefile.
+    Convert(convert::Args),
     /// Build or check the book's figures from lessons/*.json.
     Lessons(lessons::Args),
 }
@@ -50,6 +53,7 @@ pub fn run(cli: Cli, out: &mut dyn Write) -> Result<()> {
         Command::Explain(a) => explain::run(a, out),
         Command::Validate(a) => validate::run(a, out),
         Command::Schema(a) => schema::run(a, out),
+        Command::Convert(a) => convert::run(a, out),
         Command::Lessons(a) => lessons::run(a, out),
     }
 }

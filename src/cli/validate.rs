@@ -25,5 +25,11 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
         scene.camera.width,
         scene.camera.height
     );
-    super::emit(out, &(text + "\n"))
+    let mut text = text + "\n";
+    if scene.format == SceneFormat::Cs1230 {
+        for w in crate::scene::cs1230::warnings(&args.scene) {
+            text += &format!("warning: {w}\n");
+        }
+    }
+    super::emit(out, &text)
 }

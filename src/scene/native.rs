@@ -60,6 +60,7 @@ const RENDER: &[&str] = &[
     "background",
     "seed",
     "encoding",
+    "clamp_each_ray",
 ];
 const GLOBAL: &[&str] = &["ka", "kd", "ks", "kt"];
 const LIGHT: &[&str] = &[
@@ -268,6 +269,7 @@ fn render_settings(n: &Node) -> Result<RenderSettings> {
             "srgb" => Ok(Encoding::Srgb),
             s => Err(n.err(format!("unknown encoding \"{s}\" (expected clamp or srgb)"))),
         })?,
+        clamp_each_ray: o.or("clamp_each_ray", d.clamp_each_ray, |n| n.bool())?,
         ..d
     })
 }

@@ -72,6 +72,7 @@ impl Light {
     }
     // ANCHOR_END: f_att
 
+    // ANCHOR: light_sample
     /// Sample `k` of this light seen from `p`. Area lights are stratified: one jittered point
     /// per cell of their grid, from the sample's own random stream.
     pub fn sample(&self, p: DVec3, k: usize, rng: &mut Rng) -> LightSample {
@@ -113,6 +114,7 @@ impl Light {
             }
         }
     }
+    // ANCHOR_END: light_sample
 
     fn towards(&self, p: DVec3, q: DVec3, spot: f64, share: f64) -> LightSample {
         let to = q - p;

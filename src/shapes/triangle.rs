@@ -74,6 +74,7 @@ impl Triangle {
             .normalize_or_zero()
     }
 
+    // ANCHOR: inside
     pub fn intersect<O: Observer>(
         &self,
         ray: &Ray,
@@ -97,7 +98,9 @@ impl Triangle {
         }
         Some(self.local_hit(ray, &b, 0))
     }
+    // ANCHOR_END: inside
 
+    // ANCHOR: interpolate
     pub(crate) fn local_hit(&self, ray: &Ray, b: &Barycentric, index: u32) -> LocalHit {
         let w = [b.alpha, b.beta, b.gamma];
         let geometric = self.geometric_normal();
@@ -121,6 +124,7 @@ impl Triangle {
             index,
         }
     }
+    // ANCHOR_END: interpolate
 }
 
 #[cfg(test)]

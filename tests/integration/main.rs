@@ -3,6 +3,7 @@
 mod accel;
 mod book;
 mod common;
+mod cs1230;
 mod explain;
 mod render;
 mod shading;
