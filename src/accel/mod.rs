@@ -60,7 +60,46 @@ pub fn test_object<R: Recorder>(
 }
 // ANCHOR_END: object_test
 
+// ANCHOR: object_any
+/// The any-hit twin of [`test_object`], for shadow rays: the shape may stop at its first hit.
+#[inline]
+pub fn test_object_any<R: Recorder>(
+    objects: &[Object],
+    i: usize,
+    ray: &Ray,
+    t_min: f64,
+    t_max: f64,
+    rec: &mut R,
+) -> Option<LocalHit> {
+    let object = &objects[i];
+    let local_ray = object.transform.ray_to_object(ray);
+    let hit = object
+        .shape
+        .occluded(&local_ray, t_min, t_max, rec.observer());
+    rec.tested(i, hit.map(|h| h.t), t_max, &local_ray);
+    hit
+}
+// ANCHOR_END: object_any
+
 impl Accel {
+    /// Seconds it takes to build everything a scene's rays traverse: the scene-level
+    /// structure and each mesh's own BVH and prepared faces (built again here, for
+    /// `--stats`; the scene keeps the ones made at load).
+    pub fn time_build(kind: AccelKind, objects: &[Object]) -> f64 {
+        let start = std::time::Instant::now();
+        std::hint::black_box(Accel::build(kind, objects));
+        let mut seen: Vec<*const crate::shapes::Mesh> = Vec::new();
+        for o in objects {
+            if let crate::shapes::Shape::Mesh(m) = &o.shape {
+                if !seen.contains(&std::sync::Arc::as_ptr(m)) {
+                    seen.push(std::sync::Arc::as_ptr(m));
+                    std::hint::black_box(crate::shapes::Mesh::build_bvh(&m.positions, &m.faces));
+                }
+            }
+        }
+        start.elapsed().as_secs_f64()
+    }
+
     pub fn build(kind: AccelKind, objects: &[Object]) -> Accel {
         let mut accel = Accel {
             linear: kind == AccelKind::Linear,
@@ -86,6 +125,7 @@ impl Accel {
     /// The closest hit with t in [t_min, t_max]: each test narrows t_max to the best t so far.
     /// Equal t (coincident surfaces) goes to the lower object index, whatever order the
     /// objects were tested in, so the linear loop and the BVH always pick the same object.
+    /// With the linear list (`unbounded` then holds every object) this is the lecture's loop.
     pub fn closest<R: Recorder>(
         &self,
         objects: &[Object],
@@ -112,20 +152,22 @@ impl Accel {
         // The BVH keeps what the closure returns, so return only hits that beat the best.
         let found = self
             .bvh
-            .closest_counted(ray, t_min, t_max, &mut visited, |p, t_max| {
-                let i = self.bounded[p];
+            .closest(ray, t_min, t_max, &mut visited, |k, t_max| {
+                let i = self.bounded[self.bvh.prims[k] as usize];
                 let h = test_object(objects, i, ray, t_min, t_max, rec)?;
                 precedes((h.t, i), key).then(|| {
                     key = Some((h.t, i));
-                    (h.t, h)
+                    (h.t, (i, h))
                 })
             });
         rec.nodes_visited(visited);
-        found.map(|(p, _, h)| (self.bounded[p], h)).or(best)
+        found.map(|(_, hit)| hit).or(best)
     }
     // ANCHOR_END: closest
 
-    /// Any hit with t in [t_min, t_max] (shadow rays): the first object found, not the closest.
+    // ANCHOR: occluded
+    /// Any hit with t in [t_min, t_max] (shadow rays): the first object found, not the
+    /// closest, and inside a mesh the first face found.
     pub fn occluded<R: Recorder>(
         &self,
         objects: &[Object],
@@ -135,25 +177,23 @@ impl Accel {
         rec: &mut R,
     ) -> Option<(usize, LocalHit)> {
         for &i in &self.unbounded {
-            if let Some(h) = test_object(objects, i, ray, t_min, t_max, rec) {
+            if let Some(h) = test_object_any(objects, i, ray, t_min, t_max, rec) {
                 return Some((i, h));
             }
         }
         let mut visited = 0;
         let mut found = None;
-        self.bvh.any(ray, t_min, t_max, &mut visited, |p| {
-            let i = self.bounded[p];
-            match test_object(objects, i, ray, t_min, t_max, rec) {
-                Some(h) => {
-                    found = Some((i, h));
-                    true
-                }
-                None => false,
-            }
+        self.bvh.any(ray, t_min, t_max, &mut visited, |k| {
+            let i = self.bounded[self.bvh.prims[k] as usize];
+            found = test_object_any(objects, i, ray, t_min, t_max, rec).map(|h| (i, h));
+            found.is_some()
         });
-        rec.nodes_visited(visited);
+        if !self.bvh.nodes.is_empty() {
+            rec.nodes_visited(visited);
+        }
         found
     }
+    // ANCHOR_END: occluded
 }
 
 /// Does a hit (t, object index) come before the best so far? Closer first; on equal t the

@@ -169,6 +169,9 @@ fn ray(o: &mut String, scene: &Scene, n: &RayNode, depth: usize) {
         }
         if let Some(n) = t.triangles_tested {
             let _ = write!(o, ": {n} triangle(s) tested");
+            if let Some(m) = t.mesh_bvh_nodes {
+                let _ = write!(o, " in {m} node(s) of its BVH");
+            }
             if let Some(i) = t.triangle {
                 let _ = write!(o, ", closest is triangle {i}");
             }

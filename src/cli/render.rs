@@ -103,12 +103,14 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
         }
     })?;
     let load = t0.elapsed().as_secs_f64();
-    // The accelerator is built during load; time it separately for the stats.
-    let t1 = Instant::now();
-    let build = {
-        let mut s = scene.clone();
-        s.rebuild_accel();
-        t1.elapsed().as_secs_f64()
+    // The accelerators (scene level and each mesh's) are built during load; build them once
+    // more to time them for the stats.
+    let build = if stats_format.is_some() {
+        with_threads(args.threads, || {
+            crate::accel::Accel::time_build(scene.render.accel, &scene.objects)
+        })?
+    } else {
+        0.0
     };
 
     let bar = (!args.quiet && std::io::stderr().is_terminal()).then(|| {

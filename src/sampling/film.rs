@@ -55,8 +55,12 @@ pub struct RenderStats {
     pub rays: RayCounts,
     pub tests: u64,
     pub nodes: u64,
-    /// Intersection tests + BVH nodes per pixel (the `cost` AOV).
+    /// Intersection tests + BVH nodes per pixel (the `cost` AOV), row-major.
     pub cost: Vec<u64>,
+    /// BVH nodes visited per pixel (the scene's and the meshes'), row-major.
+    pub pixel_nodes: Vec<u64>,
+    /// Intersection tests per pixel (objects, and faces inside meshes), row-major.
+    pub pixel_tests: Vec<u64>,
 }
 
 pub struct RenderOutput {
@@ -98,7 +102,7 @@ impl Tally for NoRecorder {
 }
 impl Tally for Counter {
     fn into_stats(self) -> Option<(RayCounts, u64, u64)> {
-        Some((self.rays, self.tests, self.nodes))
+        Some((self.rays, self.total_tests(), self.total_nodes()))
     }
 }
 
@@ -169,6 +173,8 @@ fn render_with<R: Tally>(
             st.tests += s.1;
             st.nodes += s.2;
             st.cost.push(s.1 + s.2);
+            st.pixel_tests.push(s.1);
+            st.pixel_nodes.push(s.2);
         }
     }
     let grid: Vec<&Vec<PixelSample>> = rows.iter().flat_map(|r| r.0.iter()).collect();

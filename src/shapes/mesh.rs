@@ -1,9 +1,15 @@
-use super::{cramer_hit, Aabb, LocalHit, Observer, Triangle};
+use super::{cramer_hit_prepared, Aabb, LocalHit, Observer, Prepared, Triangle};
+use crate::accel::Bvh;
 use crate::math::Ray;
 use glam::{DVec2, DVec3};
 
+// ANCHOR: mesh
 /// A triangle mesh in object space, with optional per-vertex normals and texture coordinates
 /// (one index per corner, as OBJ files are flattened on load).
+///
+/// It carries its own BVH over its faces, and every face prepared for intersection
+/// (corner and two edges, [`Prepared`]) in the BVH's leaf order, so a leaf's faces sit next
+/// to each other in memory: slot k of `prepared` is face `bvh.prims[k]`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Mesh {
     pub positions: Vec<DVec3>,
@@ -11,9 +17,11 @@ pub struct Mesh {
     pub uvs: Vec<DVec2>,
     pub faces: Vec<[u32; 3]>,
     pub bounds: Aabb,
-    /// A per-mesh bounding volume hierarchy over the faces (object space).
-    pub bvh: crate::accel::Bvh,
+    /// The bounding volume hierarchy over the faces (object space).
+    pub bvh: Bvh,
+    pub prepared: Vec<Prepared>,
 }
+// ANCHOR_END: mesh
 
 impl Mesh {
     pub fn new(
@@ -23,11 +31,7 @@ impl Mesh {
         faces: Vec<[u32; 3]>,
     ) -> Mesh {
         let bounds = Aabb::around(&positions);
-        let boxes: Vec<Aabb> = faces
-            .iter()
-            .map(|f| Aabb::around(&f.map(|i| positions[i as usize])))
-            .collect();
-        let bvh = crate::accel::Bvh::build(&boxes);
+        let (bvh, prepared) = Mesh::build_bvh(&positions, &faces);
         Mesh {
             positions,
             normals,
@@ -35,7 +39,27 @@ impl Mesh {
             faces,
             bounds,
             bvh,
+            prepared,
         }
+    }
+
+    /// Builds the BVH over the faces and the prepared faces in its leaf order (what `new`
+    /// does; public so the benchmarks can time it alone).
+    pub fn build_bvh(positions: &[DVec3], faces: &[[u32; 3]]) -> (Bvh, Vec<Prepared>) {
+        use rayon::prelude::*;
+        let corners = |f: &[u32; 3]| f.map(|i| positions[i as usize]);
+        let boxes: Vec<Aabb> = faces
+            .par_iter()
+            .map(|f| Aabb::around(&corners(f)))
+            .collect();
+        let bvh = Bvh::build(&boxes);
+        drop(boxes);
+        let prepared = bvh
+            .prims
+            .par_iter()
+            .map(|&i| Prepared::new(&corners(&faces[i as usize])))
+            .collect();
+        (bvh, prepared)
     }
 
     /// The face as a standalone triangle (with its normals and uvs when the mesh has them).
@@ -49,8 +73,16 @@ impl Mesh {
         }
     }
 
-    /// Closest face hit. The observer sees how many faces were tested, then the winning face's
-    /// own Cramer working (re-solved, only for active observers).
+    /// Bytes held per face by the intersection structures (BVH nodes, leaf order, prepared
+    /// faces), averaged; the vertex and face arrays come on top.
+    pub fn accel_bytes(&self) -> usize {
+        self.bvh.memory_bytes() + self.prepared.len() * std::mem::size_of::<Prepared>()
+    }
+
+    // ANCHOR: mesh_intersect
+    /// Closest face hit. The observer sees how many faces were tested and how many BVH nodes
+    /// were visited, then the winning face's own Cramer working (re-solved, only for active
+    /// observers).
     pub fn intersect<O: Observer>(
         &self,
         ray: &Ray,
@@ -59,13 +91,16 @@ impl Mesh {
         obs: &mut O,
     ) -> Option<LocalHit> {
         let mut tested = 0usize;
-        let found = self.bvh.closest(ray, t_min, t_max, |i, t_max| {
-            tested += 1;
-            let f = self.faces[i];
-            let v = f.map(|k| self.positions[k as usize]);
-            cramer_hit(&v, ray, t_min, t_max).map(|b| (b.t, b))
-        });
+        let mut visited = 0u32;
+        let found = self
+            .bvh
+            .closest(ray, t_min, t_max, &mut visited, |k, t_max| {
+                tested += 1;
+                cramer_hit_prepared(&self.prepared[k], ray, t_min, t_max).map(|b| (b.t, b))
+            });
+        let found = found.map(|(k, b)| (self.bvh.prims[k] as usize, b));
         obs.mesh(tested, found.map(|(i, _)| i));
+        obs.bvh_nodes(visited);
         let (index, b) = found?;
         let tri = self.triangle(index);
         if O::ACTIVE {
@@ -74,6 +109,35 @@ impl Mesh {
         }
         Some(tri.local_hit(ray, &b, index as u32))
     }
+    // ANCHOR_END: mesh_intersect
+
+    /// Any face hit within [t_min, t_max] (shadow rays): the first one found, not the
+    /// closest. Active observers (explain) get the closest hit and its full working instead,
+    /// so the blocker a student reads about is the nearest one; the verdict is the same.
+    pub fn occluded<O: Observer>(
+        &self,
+        ray: &Ray,
+        t_min: f64,
+        t_max: f64,
+        obs: &mut O,
+    ) -> Option<LocalHit> {
+        if O::ACTIVE {
+            return self.intersect(ray, t_min, t_max, obs);
+        }
+        let mut tested = 0usize;
+        let mut visited = 0u32;
+        let mut hit = None;
+        let found = self.bvh.any(ray, t_min, t_max, &mut visited, |k| {
+            tested += 1;
+            hit = cramer_hit_prepared(&self.prepared[k], ray, t_min, t_max);
+            hit.is_some()
+        });
+        let found = found.map(|k| self.bvh.prims[k] as usize);
+        obs.mesh(tested, found);
+        obs.bvh_nodes(visited);
+        let (index, b) = (found?, hit?);
+        Some(self.triangle(index).local_hit(ray, &b, index as u32))
+    }
 
     /// Every face the whole line P + t·d crosses (any t, in no particular order), with
     /// whether the line enters the solid there (d against the face's winding normal). The
@@ -81,9 +145,10 @@ impl Mesh {
     pub fn crossings(&self, ray: &Ray, mut found: impl FnMut(LocalHit, bool)) {
         let mut visited = 0;
         self.bvh
-            .any(ray, f64::NEG_INFINITY, f64::INFINITY, &mut visited, |i| {
-                let v = self.faces[i].map(|k| self.positions[k as usize]);
-                if let Some(b) = cramer_hit(&v, ray, f64::NEG_INFINITY, f64::INFINITY) {
+            .any(ray, f64::NEG_INFINITY, f64::INFINITY, &mut visited, |k| {
+                let i = self.bvh.prims[k] as usize;
+                let (lo, hi) = (f64::NEG_INFINITY, f64::INFINITY);
+                if let Some(b) = cramer_hit_prepared(&self.prepared[k], ray, lo, hi) {
                     let tri = self.triangle(i);
                     let entering = tri.geometric_normal().dot(ray.dir) < 0.0;
                     found(tri.local_hit(ray, &b, i as u32), entering);

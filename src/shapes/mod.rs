@@ -30,7 +30,9 @@ pub use mesh::Mesh;
 pub use plane::Plane;
 pub use quadratic::{Quadratic, Roots, TANGENT_TOLERANCE};
 pub use sphere::Sphere;
-pub use triangle::{cramer, cramer_hit, Barycentric, Triangle};
+pub use triangle::{
+    cramer, cramer_hit, cramer_hit_prepared, cramer_prepared, Barycentric, Prepared, Triangle,
+};
 pub use working::{Candidate, Working};
 
 use crate::math::Ray;
@@ -72,6 +74,8 @@ pub trait Observer {
     fn blob_step(&mut self, _step: BlobStep) {}
     /// A root, entering or leaving the blob.
     fn blob_root(&mut self, _t: f64, _entering: bool) {}
+    /// A shape's own BVH (a mesh's) visited `n` nodes.
+    fn bvh_nodes(&mut self, _n: u32) {}
 }
 
 /// The observer of `render`: sees nothing, costs nothing.
@@ -129,6 +133,23 @@ impl Shape {
             Shape::Mesh(s) => s.intersect(ray, t_min, t_max, obs),
             Shape::Csg(s) => s.intersect(ray, t_min, t_max, obs),
             Shape::Blob(s) => s.intersect(ray, t_min, t_max, obs),
+        }
+    }
+
+    /// Is there any intersection with `t_min <= t <= t_max`? For shadow rays: a mesh stops at
+    /// the first face it finds; other shapes answer with their closest hit (as cheap).
+    /// Returns that hit; `is_some()` always equals `intersect(..).is_some()`.
+    #[inline]
+    pub fn occluded<O: Observer>(
+        &self,
+        ray: &Ray,
+        t_min: f64,
+        t_max: f64,
+        obs: &mut O,
+    ) -> Option<LocalHit> {
+        match self {
+            Shape::Mesh(s) => s.occluded(ray, t_min, t_max, obs),
+            _ => self.intersect(ray, t_min, t_max, obs),
         }
     }
 

@@ -1,6 +1,6 @@
 use super::{Candidate, LocalHit, Observer};
 use crate::math::Ray;
-use glam::{DMat3, DVec2, DVec3};
+use glam::{DVec2, DVec3};
 use serde::Serialize;
 
 /// A triangle with corners a, b, c, optionally with a normal and texture coordinates per
@@ -29,15 +29,25 @@ pub struct Barycentric {
 /// triangle).
 #[inline]
 pub fn cramer(v: &[DVec3; 3], ray: &Ray) -> Option<Barycentric> {
-    let (e1, e2, s) = (v[1] - v[0], v[2] - v[0], ray.origin - v[0]);
+    cramer_prepared(&Prepared::new(v), ray)
+}
+
+/// The same solve for a triangle whose edges were computed once ([`Prepared`]): meshes keep
+/// one per face so a test starts from e1 and e2. Each 3×3 determinant det[x y z] is written
+/// as z·(x × y), exactly how glam's `DMat3::determinant` computes it, so both spellings
+/// give the same bits.
+#[inline]
+pub fn cramer_prepared(p: &Prepared, ray: &Ray) -> Option<Barycentric> {
+    let s = ray.origin - p.a;
     let m = -ray.dir;
-    let determinant = DMat3::from_cols(e1, e2, m).determinant();
+    let n = p.e1.cross(p.e2);
+    let determinant = m.dot(n); // det[e1 e2 −d]
     if determinant == 0.0 || !determinant.is_finite() {
         return None;
     }
-    let beta = DMat3::from_cols(s, e2, m).determinant() / determinant;
-    let gamma = DMat3::from_cols(e1, s, m).determinant() / determinant;
-    let t = DMat3::from_cols(e1, e2, s).determinant() / determinant;
+    let beta = m.dot(s.cross(p.e2)) / determinant; // det[s e2 −d] / det
+    let gamma = m.dot(p.e1.cross(s)) / determinant; // det[e1 s −d] / det
+    let t = s.dot(n) / determinant; // det[e1 e2 s] / det
     Some(Barycentric {
         alpha: 1.0 - beta - gamma,
         beta,
@@ -131,12 +141,100 @@ mod tests {
         // The determinant is det[e1, e2, -d] = det[[1,0,0],[0,1,0],[0,0,1]] = 1.
         assert!((b.determinant - 1.0).abs() < 1e-15);
     }
+
+    /// The expanded determinants give exactly the bits of `DMat3::determinant`, and the
+    /// early-exit mesh test the same verdict and numbers as the plain solve.
+    #[test]
+    fn prepared_solve_is_bit_identical() {
+        use glam::DMat3;
+        let mut rng = crate::math::Rng::new(&[5]);
+        let mut p = || DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64()) * 4.0 - 2.0;
+        for _ in 0..5000 {
+            let v = [p(), p(), p()];
+            let ray = Ray::new(p() * 3.0, p());
+            let (e1, e2, s, m) = (v[1] - v[0], v[2] - v[0], ray.origin - v[0], -ray.dir);
+            let det = DMat3::from_cols(e1, e2, m).determinant();
+            let b = cramer(&v, &ray).unwrap();
+            assert_eq!(b.determinant.to_bits(), det.to_bits());
+            assert_eq!(
+                b.beta.to_bits(),
+                (DMat3::from_cols(s, e2, m).determinant() / det).to_bits()
+            );
+            assert_eq!(
+                b.gamma.to_bits(),
+                (DMat3::from_cols(e1, s, m).determinant() / det).to_bits()
+            );
+            assert_eq!(
+                b.t.to_bits(),
+                (DMat3::from_cols(e1, e2, s).determinant() / det).to_bits()
+            );
+            let inside = b.beta >= 0.0 && b.gamma >= 0.0 && b.beta + b.gamma <= 1.0;
+            let expect = (inside && b.t >= 0.0 && b.t <= 5.0).then_some(b);
+            assert_eq!(
+                cramer_hit_prepared(&Prepared::new(&v), &ray, 0.0, 5.0),
+                expect
+            );
+        }
+    }
 }
 
 /// Cramer's rule plus the inside and range tests, for meshes (no observer, no surface record).
 #[inline]
 pub fn cramer_hit(v: &[DVec3; 3], ray: &Ray, t_min: f64, t_max: f64) -> Option<Barycentric> {
-    let b = cramer(v, ray)?;
-    (b.beta >= 0.0 && b.gamma >= 0.0 && b.beta + b.gamma <= 1.0 && b.t >= t_min && b.t <= t_max)
-        .then_some(b)
+    cramer_hit_prepared(&Prepared::new(v), ray, t_min, t_max)
+}
+
+/// [`cramer_hit`] on a prepared face. The verdict is `cramer_prepared` followed by the
+/// inside test; it is written here with the same expressions in the same order, stopping at
+/// the first failed condition, because most faces a ray is tested against are missed.
+// `!(x >= 0.0)` on purpose: a NaN must fail the test, as it fails `x >= 0.0` in `cramer_hit`.
+#[allow(clippy::neg_cmp_op_on_partial_ord)]
+#[inline(always)]
+pub fn cramer_hit_prepared(p: &Prepared, ray: &Ray, t_min: f64, t_max: f64) -> Option<Barycentric> {
+    let s = ray.origin - p.a;
+    let m = -ray.dir;
+    let n = p.e1.cross(p.e2);
+    let determinant = m.dot(n);
+    if determinant == 0.0 || !determinant.is_finite() {
+        return None;
+    }
+    let t = s.dot(n) / determinant;
+    if !(t >= t_min && t <= t_max) {
+        return None;
+    }
+    let beta = m.dot(s.cross(p.e2)) / determinant;
+    if !(beta >= 0.0) {
+        return None;
+    }
+    let gamma = m.dot(p.e1.cross(s)) / determinant;
+    if !(gamma >= 0.0 && beta + gamma <= 1.0) {
+        return None;
+    }
+    Some(Barycentric {
+        alpha: 1.0 - beta - gamma,
+        beta,
+        gamma,
+        determinant,
+        t,
+    })
+}
+
+/// A triangle ready for repeated ray tests: corner a and the edges e1 = b − a, e2 = c − a,
+/// in f64 (72 bytes). Computing the edges once changes no bit of any result.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Prepared {
+    pub a: DVec3,
+    pub e1: DVec3,
+    pub e2: DVec3,
+}
+
+impl Prepared {
+    #[inline]
+    pub fn new(v: &[DVec3; 3]) -> Prepared {
+        Prepared {
+            a: v[0],
+            e1: v[1] - v[0],
+            e2: v[2] - v[0],
+        }
+    }
 }

@@ -41,6 +41,8 @@ pub struct Working {
     pub csg: Option<CsgWorking>,
     /// A blob's root search.
     pub blob: Option<BlobWorking>,
+    /// Nodes of the shape's own BVH (a mesh's) that the ray visited.
+    pub bvh_nodes: Option<u32>,
     /// CSG nodes being combined (nested nodes sit above their parent).
     #[serde(skip)]
     csg_stack: Vec<CsgWorking>,
@@ -215,6 +217,9 @@ impl Observer for Working {
         if let Some(b) = &mut self.blob {
             b.roots.push(BlobRoot { t, entering });
         }
+    }
+    fn bvh_nodes(&mut self, n: u32) {
+        self.bvh_nodes = Some(n);
     }
 }
 

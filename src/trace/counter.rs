@@ -1,6 +1,6 @@
 use super::{RayKind, Recorder};
 use crate::math::Ray;
-use crate::shapes::NoObserver;
+use crate::shapes::Observer;
 use serde::Serialize;
 
 /// Rays traced, by kind (DESIGN §3 `--stats`).
@@ -28,14 +28,43 @@ impl RayCounts {
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Counter {
     pub rays: RayCounts,
+    /// Objects tested, plus the faces a mesh tested inside.
     pub tests: u64,
+    /// BVH nodes visited: the scene's and the meshes' own.
     pub nodes: u64,
-    obs: NoObserver,
+    obs: CountObserver,
+}
+
+/// Counts what a shape's own acceleration did (a mesh's faces and nodes); sees no working.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct CountObserver {
+    pub faces: u64,
+    pub nodes: u64,
+}
+
+impl Observer for CountObserver {
+    fn mesh(&mut self, tested: usize, _index: Option<usize>) {
+        self.faces += tested as u64;
+    }
+    fn bvh_nodes(&mut self, n: u32) {
+        self.nodes += n as u64;
+    }
+}
+
+impl Counter {
+    /// Intersection tests: objects, and each face a mesh tested.
+    pub fn total_tests(&self) -> u64 {
+        self.tests + self.obs.faces
+    }
+    /// BVH nodes visited, the scene's and the meshes'.
+    pub fn total_nodes(&self) -> u64 {
+        self.nodes + self.obs.nodes
+    }
 }
 
 impl Recorder for Counter {
-    type Obs = NoObserver;
-    fn observer(&mut self) -> &mut NoObserver {
+    type Obs = CountObserver;
+    fn observer(&mut self) -> &mut CountObserver {
         &mut self.obs
     }
     fn begin_ray(&mut self, kind: RayKind, _depth: u32, _ray: &Ray) {

@@ -49,6 +49,9 @@ pub struct TestNode {
     pub barycentric: Option<Barycentric>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub triangles_tested: Option<usize>,
+    /// Nodes of the mesh's own BVH the ray visited (meshes only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mesh_bvh_nodes: Option<u32>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub triangle: Option<usize>,
     /// CSG objects: each child's intervals along the ray and their combination.
@@ -205,6 +208,7 @@ impl Recorder for TreeRecorder<'_> {
             candidates: w.candidates,
             barycentric: w.barycentric,
             triangles_tested: w.mesh.map(|m| m.0),
+            mesh_bvh_nodes: w.bvh_nodes,
             triangle: w.mesh.and_then(|m| m.1),
             csg: w.csg,
             blob: w.blob,

@@ -1,5 +1,6 @@
 //! One integration test binary, organised by feature (the tiny-skia layout).
 
+mod accel;
 mod book;
 mod common;
 mod cs1230;

@@ -1,0 +1,750 @@
+//! How fast is the BVH? rtlab against Embree 3 on the same meshes, camera and machine
+//! (DESIGN §8). `cargo bench --bench accel [-- MESH ...]` (MESH: teapot, bunny, bunny_56k,
+//! samurai_monastry, terrain_1m; default all).
+//!
+//! For each mesh, in rounds that alternate Embree's harness and rtlab so both see the same
+//! machine load: BVH build time, camera-ray Mrays/s (one ray per pixel, 1280×720, the
+//! harness's default camera), shadow-ray Mrays/s (one ray per camera hit towards the harness's
+//! light), peak memory (VmHWM of a child process that loads, builds and traces), and the
+//! camera-ray checksum (hits, Σt) compared with Embree's, pixel by pixel. Then the Whitted
+//! scene (`scenes/whitted.json`): whole-render Mrays/s, time to first image (the release
+//! binary, process start to PNG written) and explain latency of one pixel.
+//!
+//! Environment: `RTLAB_BENCH_RUNS` (rounds, default 5), `EMBREE_BENCH` (the harness binary;
+//! otherwise it is built from ../shared/bench/embree with its build.sh when Embree's headers
+//! are installed, or skipped with a message), `RTLAB_TERRAIN` (the 1M-triangle terrain OBJ,
+//! default /tmp/terrain_1m.obj, generated with gen_mesh.py when missing), `RTLAB_MESHES`
+//! (folder of the shared meshes, default ../shared/meshes next to the crate, or
+//! /work/shared/meshes).
+//!
+//! Everything runs on 2 threads (rtlab: a rayon pool of 2; Embree: `threads=2`).
+
+use rayon::prelude::*;
+use rtlab::math::Ray;
+use rtlab::scene::Scene;
+use rtlab::shapes::{NoObserver, Shape};
+use rtlab::trace::NoRecorder;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::Instant;
+
+const W: usize = 1280;
+const H: usize = 720;
+const THREADS: usize = 2;
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    if let Some(i) = args.iter().position(|a| a == "--child-mem") {
+        child_memory(Path::new(&args[i + 1]));
+        return;
+    }
+    let filters: Vec<&String> = args.iter().filter(|a| !a.starts_with('-')).collect();
+    let runs: usize = std::env::var("RTLAB_BENCH_RUNS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(5)
+        .max(1);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(THREADS)
+        .build()
+        .expect("a thread pool");
+    let embree = locate_embree();
+    if embree.is_none() {
+        println!(
+            "Embree harness unavailable: rtlab numbers only, no ratios (see the message above)."
+        );
+    }
+    let tmp = tempfile::tempdir().expect("a temporary folder");
+
+    let mut rows = Vec::new();
+    for (name, path) in meshes() {
+        if !filters.is_empty() && !filters.iter().any(|f| name.contains(f.as_str())) {
+            continue;
+        }
+        let Some(path) = path else {
+            println!("{name}: mesh file not found, skipped");
+            continue;
+        };
+        rows.push(bench_mesh(
+            &name,
+            &path,
+            runs,
+            &pool,
+            embree.as_deref(),
+            tmp.path(),
+        ));
+    }
+    print_mesh_table(&rows);
+    if filters.is_empty() || filters.iter().any(|f| "whitted".contains(f.as_str())) {
+        bench_whitted(runs, &pool, tmp.path());
+    }
+}
+
+// ---------------------------------------------------------------- inputs
+
+fn shared_meshes() -> Option<PathBuf> {
+    if let Ok(p) = std::env::var("RTLAB_MESHES") {
+        return Some(PathBuf::from(p));
+    }
+    let here = Path::new(env!("CARGO_MANIFEST_DIR"));
+    [
+        here.join("../shared/meshes"),
+        here.join("../../shared/meshes"),
+        PathBuf::from("/work/shared/meshes"),
+    ]
+    .into_iter()
+    .find(|p| p.join("bunny_56k.obj").exists())
+}
+
+fn meshes() -> Vec<(String, Option<PathBuf>)> {
+    let dir = shared_meshes();
+    let mut out: Vec<(String, Option<PathBuf>)> =
+        ["teapot", "bunny", "bunny_56k", "samurai_monastry"]
+            .iter()
+            .map(|n| {
+                let p = dir.as_ref().map(|d| d.join(format!("{n}.obj")));
+                (n.to_string(), p.filter(|p| p.exists()))
+            })
+            .collect();
+    out.push(("terrain_1m".into(), terrain(dir.as_deref())));
+    out
+}
+
+fn terrain(dir: Option<&Path>) -> Option<PathBuf> {
+    let path = PathBuf::from(
+        std::env::var("RTLAB_TERRAIN").unwrap_or_else(|_| "/tmp/terrain_1m.obj".into()),
+    );
+    if path.exists() {
+        return Some(path);
+    }
+    let tool = dir?.join("tools/gen_mesh.py");
+    println!(
+        "generating the 1M-triangle terrain: python3 {} terrain --tris 1000000 -o {}",
+        tool.display(),
+        path.display()
+    );
+    let ok = Command::new("python3")
+        .arg(&tool)
+        .args(["terrain", "--tris", "1000000", "-o"])
+        .arg(&path)
+        .status()
+        .map(|s| s.success())
+        .unwrap_or(false);
+    ok.then_some(path)
+}
+
+/// The harness binary: $EMBREE_BENCH, or built into the target folder by its build.sh.
+fn locate_embree() -> Option<PathBuf> {
+    if let Ok(p) = std::env::var("EMBREE_BENCH") {
+        return Some(PathBuf::from(p)).filter(|p| p.exists());
+    }
+    let target = std::env::var("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|_| Path::new(env!("CARGO_MANIFEST_DIR")).join("target"));
+    let out = target.join("embree");
+    let bin = out.join("embree_bench");
+    if bin.exists() {
+        return Some(bin);
+    }
+    let script = shared_meshes()?.join("../bench/embree/build.sh");
+    if !script.exists() {
+        println!(
+            "Embree: no harness at {} (set EMBREE_BENCH)",
+            script.display()
+        );
+        return None;
+    }
+    if !Path::new("/usr/include/embree3/rtcore.h").exists() {
+        println!("Embree: headers missing (apt-get install -y libembree-dev g++), skipping the comparison");
+        return None;
+    }
+    let ok = Command::new("bash")
+        .arg(&script)
+        .arg(&out)
+        .status()
+        .map(|s| s.success())
+        .unwrap_or(false);
+    if !ok {
+        println!(
+            "Embree: {} failed, skipping the comparison",
+            script.display()
+        );
+    }
+    (ok && bin.exists()).then_some(bin)
+}
+
+/// A scene holding only this mesh (loaded by rtlab's own scene and OBJ loaders).
+fn mesh_scene(obj: &Path, dir: &Path) -> Scene {
+    let file = dir.join(format!(
+        "{}.json",
+        obj.file_stem().unwrap().to_string_lossy()
+    ));
+    let json = serde_json::json!({
+        "camera": {"position": [0, 0, 1]},
+        "objects": [{"name": "mesh", "shape": "mesh", "file": obj.to_string_lossy()}]
+    });
+    std::fs::write(&file, json.to_string()).expect("writable temp folder");
+    Scene::load(&file).expect("the mesh loads")
+}
+
+// ---------------------------------------------------------------- the harness's camera
+
+/// The harness's pinhole camera, computed in f32 exactly as embree_bench.cpp does (up to
+/// the C++ compiler's freedom to fuse multiply-adds), so both trace the same rays.
+struct HarnessCamera {
+    eye: [f32; 3],
+    fwd: [f32; 3],
+    right: [f32; 3],
+    upv: [f32; 3],
+    hw: f32,
+    hh: f32,
+    light: [f32; 3],
+    radius: f32,
+}
+
+type V = [f32; 3];
+fn add(a: V, b: V) -> V {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+fn sub(a: V, b: V) -> V {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+fn mul(a: V, s: f32) -> V {
+    [a[0] * s, a[1] * s, a[2] * s]
+}
+fn dot(a: V, b: V) -> f32 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+fn cross(a: V, b: V) -> V {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+fn norm(a: V) -> V {
+    mul(a, 1.0 / dot(a, a).sqrt())
+}
+
+impl HarnessCamera {
+    fn new(scene: &Scene) -> HarnessCamera {
+        let Shape::Mesh(mesh) = &scene.objects[0].shape else {
+            panic!("a mesh scene")
+        };
+        let (mut lo, mut hi) = ([1e30f32; 3], [-1e30f32; 3]);
+        for p in &mesh.positions {
+            let p = [p.x as f32, p.y as f32, p.z as f32];
+            for k in 0..3 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+        let c = mul(add(lo, hi), 0.5);
+        let radius = 0.5 * dot(sub(hi, lo), sub(hi, lo)).sqrt();
+        let eye = add(c, mul(norm([0.6, 0.5, 1.0]), 2.0 * radius));
+        let light = add(c, mul([1.0, 2.0, 1.5], radius));
+        let fwd = norm(sub(c, eye));
+        let right = norm(cross(fwd, [0.0, 1.0, 0.0]));
+        let upv = cross(right, fwd);
+        let hh = (0.5f32 * 40.0 * std::f32::consts::PI / 180.0).tan();
+        let hw = hh * W as f32 / H as f32;
+        HarnessCamera {
+            eye,
+            fwd,
+            right,
+            upv,
+            hw,
+            hh,
+            light,
+            radius,
+        }
+    }
+
+    fn ray(&self, x: usize, y: usize) -> Ray {
+        let u = (2.0 * (x as f32 + 0.5) / W as f32 - 1.0) * self.hw;
+        let v = (1.0 - 2.0 * (y as f32 + 0.5) / H as f32) * self.hh;
+        let d = norm(add(add(self.fwd, mul(self.right, u)), mul(self.upv, v)));
+        let w = |a: V| glam::DVec3::new(a[0] as f64, a[1] as f64, a[2] as f64);
+        Ray::new(w(self.eye), w(d))
+    }
+}
+
+// ---------------------------------------------------------------- rtlab measurements
+
+struct CameraPass {
+    seconds: f64,
+    hits: u64,
+    sum_t: f64,
+    /// t per pixel, negative for a miss.
+    t: Vec<f64>,
+}
+
+fn camera_pass(scene: &Scene, cam: &HarnessCamera, pool: &rayon::ThreadPool) -> CameraPass {
+    let start = Instant::now();
+    let rows: Vec<(u64, f64, Vec<f64>)> = pool.install(|| {
+        (0..H)
+            .into_par_iter()
+            .map(|y| {
+                let (mut hits, mut sum) = (0u64, 0.0f64);
+                let mut ts = Vec::with_capacity(W);
+                let mut rec = NoRecorder::default();
+                for x in 0..W {
+                    let ray = cam.ray(x, y);
+                    let hit =
+                        scene
+                            .accel
+                            .closest(&scene.objects, &ray, 0.0, f64::INFINITY, &mut rec);
+                    match hit {
+                        Some((_, h)) => {
+                            hits += 1;
+                            sum += h.t;
+                            ts.push(h.t);
+                        }
+                        None => ts.push(-1.0),
+                    }
+                }
+                (hits, sum, ts)
+            })
+            .collect()
+    });
+    let seconds = start.elapsed().as_secs_f64();
+    let mut pass = CameraPass {
+        seconds,
+        hits: 0,
+        sum_t: 0.0,
+        t: Vec::with_capacity(W * H),
+    };
+    for (h, s, ts) in rows {
+        pass.hits += h;
+        pass.sum_t += s;
+        pass.t.extend(ts);
+    }
+    pass
+}
+
+/// The same camera rays straight into the mesh's own BVH, skipping the scene level: the
+/// price of the two-level design is the difference.
+fn mesh_only_seconds(scene: &Scene, cam: &HarnessCamera, pool: &rayon::ThreadPool) -> f64 {
+    let Shape::Mesh(mesh) = &scene.objects[0].shape else {
+        unreachable!()
+    };
+    let start = Instant::now();
+    let hits: u64 = pool.install(|| {
+        (0..H)
+            .into_par_iter()
+            .map(|y| {
+                (0..W)
+                    .filter(|&x| {
+                        mesh.intersect(&cam.ray(x, y), 0.0, f64::INFINITY, &mut NoObserver)
+                            .is_some()
+                    })
+                    .count() as u64
+            })
+            .sum()
+    });
+    std::hint::black_box(hits);
+    start.elapsed().as_secs_f64()
+}
+
+/// One shadow ray per camera hit, towards the harness's light, from t_min = 1e-4·R as the
+/// harness does. Returns (seconds, rays, occluded).
+fn shadow_pass(
+    scene: &Scene,
+    cam: &HarnessCamera,
+    camera: &CameraPass,
+    pool: &rayon::ThreadPool,
+) -> (f64, u64, u64) {
+    let light = glam::DVec3::new(
+        cam.light[0] as f64,
+        cam.light[1] as f64,
+        cam.light[2] as f64,
+    );
+    let eps = 1e-4 * cam.radius as f64;
+    let start = Instant::now();
+    let (rays, occluded) = pool.install(|| {
+        (0..H)
+            .into_par_iter()
+            .map(|y| {
+                let (mut n, mut occ) = (0u64, 0u64);
+                let mut rec = NoRecorder::default();
+                for x in 0..W {
+                    let t = camera.t[y * W + x];
+                    if t < 0.0 {
+                        continue;
+                    }
+                    let p = cam.ray(x, y).at(t);
+                    let to_light = light - p;
+                    let dist = to_light.length();
+                    let ray = Ray::new(p, to_light / dist);
+                    n += 1;
+                    occ += scene
+                        .accel
+                        .occluded(&scene.objects, &ray, eps, dist, &mut rec)
+                        .is_some() as u64;
+                }
+                (n, occ)
+            })
+            .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
+    });
+    (start.elapsed().as_secs_f64(), rays, occluded)
+}
+
+fn build_seconds(scene: &Scene, pool: &rayon::ThreadPool) -> f64 {
+    let Shape::Mesh(mesh) = &scene.objects[0].shape else {
+        unreachable!()
+    };
+    let start = Instant::now();
+    let built = pool.install(|| rtlab::shapes::Mesh::build_bvh(&mesh.positions, &mesh.faces));
+    let s = start.elapsed().as_secs_f64();
+    std::hint::black_box(built);
+    s
+}
+
+/// Child process: load, build and trace the camera rays once, then report the peak
+/// resident set (VmHWM) in KiB on stdout: the same work Embree's harness measures.
+fn child_memory(obj: &Path) {
+    let dir = tempfile::tempdir().expect("temp folder");
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(THREADS)
+        .build()
+        .expect("pool");
+    let scene = pool.install(|| mesh_scene(obj, dir.path()));
+    let cam = HarnessCamera::new(&scene);
+    let pass = camera_pass(&scene, &cam, &pool);
+    std::hint::black_box(pass.hits);
+    let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+    let kib = status
+        .lines()
+        .find(|l| l.starts_with("VmHWM:"))
+        .and_then(|l| l.split_whitespace().nth(1))
+        .unwrap_or("0");
+    println!("{kib}");
+}
+
+fn peak_memory_mib(obj: &Path) -> Option<f64> {
+    let exe = std::env::current_exe().ok()?;
+    let out = Command::new(exe)
+        .arg("--child-mem")
+        .arg(obj)
+        .output()
+        .ok()?;
+    let kib: f64 = String::from_utf8_lossy(&out.stdout).trim().parse().ok()?;
+    (kib > 0.0).then_some(kib / 1024.0)
+}
+
+// ---------------------------------------------------------------- Embree
+
+#[derive(Default)]
+struct EmbreeRun {
+    build_ms: f64,
+    single: f64,
+    hits: u64,
+    sum_t: f64,
+    shadow: f64,
+    shadow_rays: u64,
+    occluded: u64,
+    peak_mib: f64,
+    /// Hit (true) or miss per pixel, from its depth image.
+    mask: Vec<bool>,
+}
+
+fn run_embree(bin: &Path, obj: &Path, ppm: &Path) -> Option<EmbreeRun> {
+    let out = Command::new(bin)
+        .arg(obj)
+        .args(["--size", "1280x720", "--threads", "2", "--runs", "1"])
+        .args(["--modes", "single,shadow", "--ppm"])
+        .arg(ppm)
+        .output()
+        .ok()?;
+    let text = String::from_utf8_lossy(&out.stdout);
+    let mut r = EmbreeRun::default();
+    let num = |s: &str| s.trim_end_matches(',').parse::<f64>().ok();
+    for line in text.lines() {
+        let w: Vec<&str> = line.split_whitespace().collect();
+        let after = |key: &str| w.iter().position(|x| *x == key).and_then(|i| num(w[i + 1]));
+        if line.starts_with("build_ms") {
+            r.build_ms = after("median")?;
+        } else if line.starts_with("single") {
+            r.single = after("median")?;
+            r.hits = w[w.iter().position(|x| *x == "hits")? + 1]
+                .split('/')
+                .next()?
+                .parse()
+                .ok()?;
+            r.sum_t = after("sum_t")?;
+        } else if line.starts_with("shadow") {
+            r.shadow = after("median")?;
+            r.shadow_rays = after("rays")? as u64;
+            r.occluded = after("occluded")? as u64;
+        } else if line.starts_with("peak_rss_mib") {
+            r.peak_mib = after("peak_rss_mib")?;
+        }
+    }
+    let bytes = std::fs::read(ppm).ok()?;
+    let header = format!("P5\n{W} {H}\n255\n");
+    if !bytes.starts_with(header.as_bytes()) {
+        return None;
+    }
+    r.mask = bytes[header.len()..].iter().map(|&g| g != 0).collect();
+    (r.mask.len() == W * H).then_some(r)
+}
+
+// ---------------------------------------------------------------- one mesh
+
+struct MeshRow {
+    name: String,
+    triangles: usize,
+    load_s: f64,
+    explain_ms: f64,
+    build_ms: f64,
+    camera: f64,
+    mesh_only: f64,
+    shadow: f64,
+    peak_mib: Option<f64>,
+    bytes_per_tri: f64,
+    hits: u64,
+    sum_t: f64,
+    occluded: (u64, u64),
+    embree: Option<EmbreeSummary>,
+}
+
+struct EmbreeSummary {
+    build_ms: f64,
+    camera: f64,
+    shadow: f64,
+    peak_mib: f64,
+    hits: u64,
+    sum_t: f64,
+    occluded: (u64, u64),
+    pixels_differ: usize,
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
+}
+
+fn bench_mesh(
+    name: &str,
+    obj: &Path,
+    runs: usize,
+    pool: &rayon::ThreadPool,
+    embree: Option<&Path>,
+    tmp: &Path,
+) -> MeshRow {
+    println!("== {name} ({})", obj.display());
+    let t0 = Instant::now();
+    let scene = pool.install(|| mesh_scene(obj, tmp));
+    let load_s = t0.elapsed().as_secs_f64();
+    let t1 = Instant::now();
+    let e = rtlab::cli::explain::explain(&scene, scene.camera.width / 2, scene.camera.height / 2);
+    let explain_ms = t1.elapsed().as_secs_f64() * 1e3;
+    std::hint::black_box(e);
+    let Shape::Mesh(mesh) = &scene.objects[0].shape else {
+        unreachable!()
+    };
+    let triangles = mesh.faces.len();
+    let bytes_per_tri = (mesh.accel_bytes()
+        + mesh.faces.len() * 12
+        + (mesh.positions.len() + mesh.normals.len()) * 24
+        + mesh.uvs.len() * 16) as f64
+        / triangles as f64;
+    let cam = HarnessCamera::new(&scene);
+    let ppm = tmp.join(format!("{name}.ppm"));
+    let (mut b, mut c, mut m, mut s) = (vec![], vec![], vec![], vec![]);
+    let (mut eb, mut ec, mut es, mut em) = (vec![], vec![], vec![], vec![]);
+    let mut last_embree = None;
+    let mut last = None;
+    for round in 0..runs {
+        if let Some(bin) = embree {
+            if let Some(e) = run_embree(bin, obj, &ppm) {
+                eb.push(e.build_ms);
+                ec.push(e.single);
+                es.push(e.shadow);
+                em.push(e.peak_mib);
+                last_embree = Some(e);
+            } else if round == 0 {
+                println!("  Embree harness failed on this mesh");
+            }
+        }
+        b.push(build_seconds(&scene, pool) * 1e3);
+        let pass = camera_pass(&scene, &cam, pool);
+        c.push((W * H) as f64 / pass.seconds / 1e6);
+        let (secs, rays, occ) = shadow_pass(&scene, &cam, &pass, pool);
+        s.push(rays as f64 / secs / 1e6);
+        m.push((W * H) as f64 / mesh_only_seconds(&scene, &cam, pool) / 1e6);
+        println!(
+            "  round {}: build {:.1} ms, camera {:.2} Mrays/s, shadow {:.2} Mrays/s{}",
+            round + 1,
+            b[round],
+            c[round],
+            s[round],
+            match (ec.last(), es.last()) {
+                (Some(x), Some(y)) if ec.len() == round + 1 => format!(
+                    "  | Embree build {:.1} ms, camera {x:.2}, shadow {y:.2}",
+                    eb[round]
+                ),
+                _ => String::new(),
+            }
+        );
+        last = Some((pass, rays, occ));
+    }
+    let (pass, rays, occ) = last.expect("at least one round");
+    let embree = last_embree.map(|e| {
+        let pixels_differ = e
+            .mask
+            .iter()
+            .zip(&pass.t)
+            .filter(|(&hit, &t)| hit != (t >= 0.0))
+            .count();
+        EmbreeSummary {
+            build_ms: median(eb),
+            camera: median(ec),
+            shadow: median(es),
+            peak_mib: median(em),
+            hits: e.hits,
+            sum_t: e.sum_t,
+            occluded: (e.shadow_rays, e.occluded),
+            pixels_differ,
+        }
+    });
+    MeshRow {
+        name: name.to_string(),
+        triangles,
+        load_s,
+        explain_ms,
+        build_ms: median(b),
+        camera: median(c),
+        mesh_only: median(m),
+        shadow: median(s),
+        peak_mib: peak_memory_mib(obj),
+        bytes_per_tri,
+        hits: pass.hits,
+        sum_t: pass.sum_t,
+        occluded: (rays, occ),
+        embree,
+    }
+}
+
+fn print_mesh_table(rows: &[MeshRow]) {
+    if rows.is_empty() {
+        return;
+    }
+    println!();
+    println!("1280×720, one ray per pixel, harness camera, {THREADS} threads; medians; ratio = rtlab / Embree (for build and memory, lower is better)");
+    println!(
+        "{:<17} {:>9} | {:>10} {:>10} {:>6} | {:>8} {:>8} {:>6} | {:>8} {:>8} {:>6} | {:>8} {:>8} {:>6} | {:>7}",
+        "mesh", "tris", "build ms", "Embree", "ratio", "camera", "Embree", "ratio", "shadow", "Embree", "ratio",
+        "peak MiB", "Embree", "ratio", "2-level"
+    );
+    for r in rows {
+        let e = r.embree.as_ref();
+        let f = |x: Option<f64>, p: usize| x.map_or("-".to_string(), |v| format!("{v:.p$}"));
+        println!(
+            "{:<17} {:>9} | {:>10.1} {:>10} {:>6} | {:>8.2} {:>8} {:>6} | {:>8.2} {:>8} {:>6} | {:>8} {:>8} {:>6} | {:>6.1}%",
+            r.name,
+            r.triangles,
+            r.build_ms,
+            f(e.map(|e| e.build_ms), 1),
+            f(e.map(|e| r.build_ms / e.build_ms), 2),
+            r.camera,
+            f(e.map(|e| e.camera), 2),
+            f(e.map(|e| r.camera / e.camera), 2),
+            r.shadow,
+            f(e.map(|e| e.shadow), 2),
+            f(e.map(|e| r.shadow / e.shadow), 2),
+            f(r.peak_mib, 1),
+            f(e.map(|e| e.peak_mib), 1),
+            f(r.peak_mib.zip(e.map(|e| e.peak_mib)).map(|(a, b)| a / b), 2),
+            100.0 * (r.mesh_only / r.camera - 1.0),
+        );
+    }
+    println!("2-level: how much faster the same camera rays run straight into the mesh's BVH, skipping the scene level");
+    println!();
+    println!(
+        "checksums (camera rays: hits, Σt; shadow rays: occluded of rays) and memory per triangle"
+    );
+    for r in rows {
+        print!(
+            "{:<17} rtlab hits {:>7} Σt {:.6e} occluded {}/{} | load + build {:.2} s, then explain of a pixel {:.2} ms; {:.0} bytes/triangle (mesh + BVH + prepared faces)",
+            r.name, r.hits, r.sum_t, r.occluded.1, r.occluded.0, r.load_s, r.explain_ms, r.bytes_per_tri
+        );
+        if let Some(e) = &r.embree {
+            print!(
+                "\n{:<17} Embree hits {:>7} Σt {:.6e} occluded {}/{} | hits differ by {}, Σt by {:.2e} (relative), {} pixels disagree on hit/miss",
+                "",
+                e.hits,
+                e.sum_t,
+                e.occluded.1,
+                e.occluded.0,
+                r.hits as i64 - e.hits as i64,
+                (r.sum_t - e.sum_t) / e.sum_t,
+                e.pixels_differ
+            );
+        }
+        println!();
+    }
+}
+
+// ---------------------------------------------------------------- the Whitted scene
+
+fn bench_whitted(runs: usize, pool: &rayon::ThreadPool, tmp: &Path) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/whitted.json");
+    println!();
+    println!(
+        "== Whitted scene {} (mirror + glass + shadows, depth 5), {THREADS} threads",
+        path.display()
+    );
+    let (mut mrays, mut ttfi, mut explain_ms, mut load_ms) = (vec![], vec![], vec![], vec![]);
+    let exe = env!("CARGO_BIN_EXE_rtlab");
+    let png = tmp.join("whitted.png");
+    let mut rays = 0;
+    for _ in 0..runs {
+        let t0 = Instant::now();
+        let scene = Scene::load(&path).expect("the Whitted scene loads");
+        load_ms.push(t0.elapsed().as_secs_f64() * 1e3);
+        let out = pool.install(|| rtlab::sampling::render(&scene, &scene.render, true, None));
+        let stats = out.stats.expect("counted");
+        rays = stats.rays.total;
+        mrays.push(rays as f64 / out.trace_seconds / 1e6);
+        let (x, y) = (scene.camera.width / 2, scene.camera.height / 2);
+        let t1 = Instant::now();
+        let e = rtlab::cli::explain::explain(&scene, x, y);
+        explain_ms.push(t1.elapsed().as_secs_f64() * 1e3);
+        std::hint::black_box(e);
+        let t2 = Instant::now();
+        let ok = Command::new(exe)
+            .arg("render")
+            .arg(&path)
+            .arg("-o")
+            .arg(&png)
+            .args(["--threads", "2", "--quiet"])
+            .status()
+            .map(|s| s.success())
+            .unwrap_or(false);
+        if ok && png.exists() {
+            ttfi.push(t2.elapsed().as_secs_f64());
+        }
+        let _ = std::fs::remove_file(&png);
+    }
+    println!(
+        "whole render: {:.2} Mrays/s ({rays} rays: camera, shadow, reflection, refraction)",
+        median(mrays)
+    );
+    if !ttfi.is_empty() {
+        println!(
+            "time to first image (release binary, process start to PNG written): {:.3} s",
+            median(ttfi)
+        );
+    }
+    println!(
+        "explain of the centre pixel: {:.2} ms after a load + build of {:.2} ms",
+        median(explain_ms),
+        median(load_ms)
+    );
+}
