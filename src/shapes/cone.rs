@@ -24,13 +24,7 @@ impl Cone {
         t_max: f64,
         obs: &mut O,
     ) -> Option<LocalHit> {
-        let mut best: Option<Candidate> = None;
-        self.candidates(ray, t_min, obs, |c| {
-            if c.on_shape && c.in_front && c.t <= t_max && best.is_none_or(|b| c.t < b.t) {
-                best = Some(c);
-            }
-        });
-        let c = best?;
+        let c = Candidate::nearest(t_max, |f| self.candidates(ray, t_min, obs, f))?;
         Some(self.local_hit(ray, c.t, c.surface))
     }
 

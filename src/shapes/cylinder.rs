@@ -25,13 +25,7 @@ impl Cylinder {
         t_max: f64,
         obs: &mut O,
     ) -> Option<LocalHit> {
-        let mut best: Option<Candidate> = None;
-        self.candidates(ray, t_min, obs, |c| {
-            if c.on_shape && c.in_front && c.t <= t_max && best.is_none_or(|b| c.t < b.t) {
-                best = Some(c);
-            }
-        });
-        let c = best?;
+        let c = Candidate::nearest(t_max, |f| self.candidates(ray, t_min, obs, f))?;
         Some(self.local_hit(c.point, c.t, c.surface))
     }
 

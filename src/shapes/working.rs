@@ -15,6 +15,20 @@ pub struct Candidate {
     pub in_front: bool,
 }
 
+impl Candidate {
+    /// The lecture's rule over a shape's candidates: the smallest t that is on the finite
+    /// shape, in front of the origin and within `t_max`. `each` hands every candidate over.
+    pub fn nearest(t_max: f64, each: impl FnOnce(&mut dyn FnMut(Candidate))) -> Option<Candidate> {
+        let mut best: Option<Candidate> = None;
+        each(&mut |c: Candidate| {
+            if c.on_shape && c.in_front && c.t <= t_max && best.is_none_or(|b| c.t < b.t) {
+                best = Some(c);
+            }
+        });
+        best
+    }
+}
+
 /// A candidate as it is written out, with the reason it was kept or tossed.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct CandidateRecord {

@@ -93,34 +93,9 @@ fn perpendicular(v: DVec3) -> DVec3 {
     (seed - v * v.dot(seed)).normalize()
 }
 
-/// Clips a pixel segment to the plot (Liang–Barsky).
+/// Clips a pixel segment to the plot (Liang–Barsky, shared with the slice diagram).
 fn clip(a: (f32, f32), b: (f32, f32)) -> Option<((f32, f32), (f32, f32))> {
-    let r = PLOT;
-    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
-    let (mut t0, mut t1) = (0.0f32, 1.0f32);
-    for (p, q) in [
-        (-dx, a.0 - r[0]),
-        (dx, r[2] - a.0),
-        (-dy, a.1 - r[1]),
-        (dy, r[3] - a.1),
-    ] {
-        if p == 0.0 {
-            if q < 0.0 {
-                return None;
-            }
-        } else {
-            let t = q / p;
-            if p < 0.0 {
-                t0 = t0.max(t);
-            } else {
-                t1 = t1.min(t);
-            }
-        }
-    }
-    (t0 <= t1).then_some((
-        (a.0 + dx * t0, a.1 + dy * t0),
-        (a.0 + dx * t1, a.1 + dy * t1),
-    ))
+    super::slice::clip(a, b, PLOT)
 }
 
 /// A label waiting to be placed once every line and mark is down.

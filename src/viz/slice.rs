@@ -262,7 +262,7 @@ impl View {
 }
 
 /// Clips segment a→b to a rectangle (Liang–Barsky); `None` when it lies outside.
-fn clip(a: (f32, f32), b: (f32, f32), r: [f32; 4]) -> Option<((f32, f32), (f32, f32))> {
+pub(crate) fn clip(a: (f32, f32), b: (f32, f32), r: [f32; 4]) -> Option<((f32, f32), (f32, f32))> {
     let (dx, dy) = (b.0 - a.0, b.1 - a.1);
     let (mut t0, mut t1) = (0.0f32, 1.0f32);
     for (p, q) in [
