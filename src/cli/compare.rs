@@ -204,6 +204,9 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
         ..RenderArgs::default()
     };
     let scene = base.load(&args.scene)?;
+    // The reference is the largest render compare makes.
+    let most = args.spp.iter().copied().chain([args.reference_spp]).max();
+    base.check_memory(&scene, &args.scene, most.unwrap_or(1))?;
     let (w, h) = (scene.camera.width, scene.camera.height);
     let crop_arg = args
         .crop

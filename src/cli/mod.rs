@@ -137,6 +137,19 @@ pub struct RenderArgs {
 }
 
 impl RenderArgs {
+    /// Refuses, before anything is allocated, a render of `spp` samples per pixel that would
+    /// not fit in memory; the message names the arguments when they set the size.
+    pub fn check_memory(&self, scene: &Scene, path: &std::path::Path, spp: u32) -> Result<()> {
+        let (w, h) = (scene.camera.width, scene.camera.height);
+        crate::sampling::check_memory(w, h, spp).map_err(|m| {
+            if self.width.is_some() || self.height.is_some() || self.spp.is_some() {
+                Error::arg("--width/--height/--spp", m)
+            } else {
+                Error::input(path, "camera", m)
+            }
+        })
+    }
+
     /// Loads the scene and applies these options to it.
     pub fn load(&self, path: &std::path::Path) -> Result<Scene> {
         // Cheap argument checks first, so a typo is reported before a long load.

@@ -93,15 +93,8 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
     }
     let t0 = Instant::now();
     let scene = args.render.load(&args.scene)?;
-    let (w, h, spp) = (scene.camera.width, scene.camera.height, scene.render.spp);
-    crate::sampling::check_memory(w, h, spp).map_err(|m| {
-        let r = &args.render;
-        if r.width.is_some() || r.height.is_some() || r.spp.is_some() {
-            Error::arg("--width/--height/--spp", m)
-        } else {
-            Error::input(&args.scene, "camera", m)
-        }
-    })?;
+    args.render
+        .check_memory(&scene, &args.scene, scene.render.spp)?;
     let load = t0.elapsed().as_secs_f64();
     // The accelerators (scene level and each mesh's) are built during load; build them once
     // more to time them for the stats.

@@ -117,6 +117,8 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
         ));
     }
     let scene = args.render.load(&args.scene)?;
+    args.render
+        .check_memory(&scene, &args.scene, scene.render.spp)?;
     if args.forward {
         return forward(&args, &scene, out);
     }

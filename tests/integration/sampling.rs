@@ -431,3 +431,39 @@ fn spp_aov_shows_where_the_adaptive_sampler_spent_its_samples() {
     s.sampler = SamplerKind::Grid;
     assert_eq!(distinct(&render_aov(&scene, &s, Aov::Spp).image), 1);
 }
+
+/// compare and steps refuse, before allocating, a render that cannot fit in memory (as
+/// render does), and write nothing.
+#[test]
+fn compare_and_steps_refuse_renders_too_large_for_memory() {
+    let s = path("scenes/spheres.json");
+    let dir = tmp("too-large-steps");
+    let _ = std::fs::remove_dir_all(&dir);
+    for args in [
+        vec![
+            "compare",
+            s.to_str().unwrap(),
+            "--width",
+            "4000",
+            "--height",
+            "4000",
+        ],
+        vec![
+            "steps",
+            s.to_str().unwrap(),
+            "--width",
+            "6000",
+            "--height",
+            "6000",
+            "--spp",
+            "64",
+            "-o",
+            dir.to_str().unwrap(),
+        ],
+    ] {
+        let o = rtlab(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        assert!(stderr(&o).contains("of memory"), "{}", stderr(&o));
+    }
+    assert!(!dir.exists(), "steps made its folder before refusing");
+}
