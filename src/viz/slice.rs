@@ -321,7 +321,7 @@ pub fn draw(scene: &Scene, tree: &RayNode, opts: &SliceOptions) -> Result<Canvas
     let mut all = Vec::new();
     preorder(tree, &mut all);
     let k = opts.events.unwrap_or(all.len()).min(all.len());
-    let events: Vec<Drawn> = all[..k]
+    let every: Vec<Drawn> = all
         .iter()
         .map(|n| Drawn {
             node: n,
@@ -332,6 +332,7 @@ pub fn draw(scene: &Scene, tree: &RayNode, opts: &SliceOptions) -> Result<Canvas
                 .flatten(),
         })
         .collect();
+    let events = &every[..k];
 
     // The window: the eye, the camera ray's hit and the object it hit make the core; the
     // other rays' ends and lights join when they are not far outside it (rays to farther
@@ -368,7 +369,8 @@ pub fn draw(scene: &Scene, tree: &RayNode, opts: &SliceOptions) -> Result<Canvas
     let core_center = ((core.0 + core.2) / 2.0, (core.1 + core.3) / 2.0);
     let near =
         |p: (f64, f64)| (p.0 - core_center.0).hypot(p.1 - core_center.1) <= 1.3 * core_extent;
-    for e in &events {
+    // Every event, drawn or not: a storyboard (`events: Some(k)`) keeps one view throughout.
+    for e in &every {
         let mut ends = vec![frame.to2(e.start)];
         if let Some(p) = e.end {
             ends.push(frame.to2(p));
@@ -387,10 +389,11 @@ pub fn draw(scene: &Scene, tree: &RayNode, opts: &SliceOptions) -> Result<Canvas
     let (w, h) = (w * 1.16 + extent * 0.04, h * 1.16 + extent * 0.04);
     let center = ((b.0 + b.2) / 2.0, (b.1 + b.3) / 2.0);
 
-    // Legend entries first: they decide how tall the bottom band is.
+    // Legend entries first: they decide how tall the bottom band is. They cover the whole
+    // tree, so a storyboard's frames keep one layout (and the legend says what is coming).
     let mut kinds: Vec<RayKind> = Vec::new();
     let (mut any_blocked, mut any_off, mut any_hit) = (false, false, false);
-    for e in &events {
+    for e in &every {
         if !kinds.contains(&e.node.kind) {
             kinds.push(e.node.kind);
         }
@@ -426,7 +429,7 @@ pub fn draw(scene: &Scene, tree: &RayNode, opts: &SliceOptions) -> Result<Canvas
     // Ray marks that labels must avoid.
     let eye = view.px(frame.to2(tree.origin));
     labels.block_point(eye, 6.0);
-    for e in &events {
+    for e in events {
         let a = view.px(frame.to2(e.start));
         let bpt = match (e.end, &e.light) {
             (Some(p), _) => Some(view.px(frame.to2(p))),
@@ -515,7 +518,7 @@ pub fn draw(scene: &Scene, tree: &RayNode, opts: &SliceOptions) -> Result<Canvas
 
     // Lights.
     let mut lights_drawn: Vec<String> = Vec::new();
-    for e in &events {
+    for e in events {
         if let Some((Some(p), name)) = &e.light {
             if lights_drawn.contains(name) {
                 continue;

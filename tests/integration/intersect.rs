@@ -26,11 +26,16 @@ fn slice_events_are_the_rays_of_the_tree() {
         ..Default::default()
     };
     let c = draw(&scene, &t, &opts).unwrap();
+    // Rays in the plot, not the legend's sample arrows in the band at the bottom (the
+    // legend lists every kind of the whole tree, drawn or not yet).
     let ray_colors = |c: &rtlab::viz::Canvas| {
+        let band = c.height() - 70.0;
         c.display
             .iter()
             .filter_map(|p| match p {
-                Prim::Arrow { color, width, .. } if *width >= 2.0 => Some(color.clone()),
+                Prim::Arrow {
+                    color, width, from, ..
+                } if *width >= 2.0 && from[1] < band => Some(color.clone()),
                 _ => None,
             })
             .collect::<Vec<_>>()

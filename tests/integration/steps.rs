@@ -477,3 +477,32 @@ fn cost_aov_counts_what_stats_count() {
         .iter()
         .any(|p| p[0].1.ray_depth == scene.render.max_depth));
 }
+
+/// A storyboard keeps one view: frame 1 and the last frame put the eye's label at the same
+/// place (the window is fitted to the whole ray tree, not to the rays drawn so far).
+#[test]
+fn storyboard_view_does_not_move_between_frames() {
+    use rtlab::viz::slice::{draw, event_count, SliceOptions};
+    use rtlab::viz::Prim;
+    let scene = rtlab::scene::Scene::load(&path("scenes/glass.json")).unwrap();
+    let report = rtlab::cli::explain::explain(&scene, 160, 140);
+    let tree = &report.samples[0].ray;
+    let n = event_count(tree);
+    assert!(n > 3, "{n} events");
+    let eye_at = |k: usize| {
+        let opts = SliceOptions {
+            events: Some(k),
+            ..Default::default()
+        };
+        let c = draw(&scene, tree, &opts).unwrap();
+        c.display
+            .iter()
+            .find_map(|p| match p {
+                Prim::Text { at, text, .. } if text == "eye" => Some(*at),
+                _ => None,
+            })
+            .expect("the eye is labelled")
+    };
+    let (first, last) = (eye_at(1), eye_at(n));
+    assert_eq!(first, last);
+}
