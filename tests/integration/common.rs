@@ -62,3 +62,35 @@ pub fn write_tmp(name: &str, text: &str) -> PathBuf {
 pub fn exists(p: &Path) -> bool {
     p.exists()
 }
+
+/// A pinned pixel: scene, pixel, and what it teaches.
+pub struct Case {
+    pub name: &'static str,
+    pub scene: &'static str,
+    pub pixel: (u32, u32),
+    /// A smaller max_depth than the scene's, to keep the snapshot readable.
+    pub depth: Option<u32>,
+    pub teaches: &'static str,
+}
+
+/// Explains the case's pixel in `scene` and pins the rounded JSON as a YAML snapshot named
+/// `name` in `dir`, described by what the case teaches; `info` says where it comes from.
+pub fn snapshot_explained(
+    c: &Case,
+    mut scene: rtlab::scene::Scene,
+    dir: &str,
+    name: &str,
+    info: impl FnOnce(&rtlab::scene::Scene) -> serde_json::Value,
+) {
+    if let Some(d) = c.depth {
+        scene.render.max_depth = d;
+    }
+    let e = rtlab::cli::explain::explain(&scene, c.pixel.0, c.pixel.1);
+    let v = rtlab::cli::explain::rounded(&serde_json::to_value(&e).unwrap());
+    let mut settings = insta::Settings::clone_current();
+    settings.set_snapshot_path(dir);
+    settings.set_prepend_module_to_snapshot(false);
+    settings.set_description(c.teaches);
+    settings.set_info(&info(&scene));
+    settings.bind(|| insta::assert_yaml_snapshot!(name, v));
+}

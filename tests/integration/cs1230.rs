@@ -4,7 +4,7 @@
 
 use super::common::*;
 use glam::{DMat4, DVec2, DVec3};
-use rtlab::cli::explain::{explain, rounded};
+use rtlab::cli::explain::rounded;
 use rtlab::math::Ray;
 use rtlab::sampling::render;
 use rtlab::scene::{Scene, SceneFormat};
@@ -114,14 +114,6 @@ fn snapshots_of_loaded_scenes() {
     }
 }
 
-struct Case {
-    name: &'static str,
-    scene: &'static str,
-    pixel: (u32, u32),
-    depth: Option<u32>,
-    teaches: &'static str,
-}
-
 const CASES: &[Case] = &[
     Case { name: "primitives_miss", scene: "primitives", pixel: (20, 20), depth: None, teaches: "a miss: the course's background is black" },
     Case { name: "primitives_cone_side", scene: "primitives", pixel: (680, 450), depth: None, teaches: "the canonical cone's side (apex at y = +0.5): normal ∝ (2x, (0.5 − y)/2, 2z); a point light with f_att = 1/(c1 + c2·d + c3·d²) and a directional light" },
@@ -136,20 +128,15 @@ const CASES: &[Case] = &[
 #[test]
 fn snapshots_of_explained_pixels() {
     for c in CASES {
-        let mut scene =
-            Scene::load(&path(&format!("tests/cs1230/scenes/{}.json", c.scene))).unwrap();
-        if let Some(d) = c.depth {
-            scene.render.max_depth = d;
-        }
-        let e = explain(&scene, c.pixel.0, c.pixel.1);
-        let v = rounded(&serde_json::to_value(&e).unwrap());
-        let mut settings = insta::Settings::clone_current();
-        settings.set_snapshot_path("snapshots/cs1230");
-        settings.set_prepend_module_to_snapshot(false);
-        settings.set_description(c.teaches);
-        settings.set_info(&json!({"scene": format!("tests/cs1230/scenes/{}.json", c.scene),
-            "pixel": [c.pixel.0, c.pixel.1], "max_depth": scene.render.max_depth, "size": [1024, 768]}));
-        settings.bind(|| insta::assert_yaml_snapshot!(format!("explain_{}", c.name), v));
+        let file = format!("tests/cs1230/scenes/{}.json", c.scene);
+        let name = format!("explain_{}", c.name);
+        snapshot_explained(
+            c,
+            Scene::load(&path(&file)).unwrap(),
+            "snapshots/cs1230",
+            &name,
+            |s| json!({"scene": file, "pixel": [c.pixel.0, c.pixel.1], "max_depth": s.render.max_depth, "size": [1024, 768]}),
+        );
     }
 }
 

@@ -2,7 +2,7 @@
 //! every node's colour is exactly the sum of its terms.
 
 use super::common::*;
-use rtlab::cli::explain::{explain, rounded};
+use rtlab::cli::explain::explain;
 use rtlab::sampling::{encode, render};
 use rtlab::trace::{RayKind, RayNode};
 
@@ -154,16 +154,6 @@ fn explain_errors_are_clear() {
     }
 }
 
-/// A pinned pixel: scene, pixel, size, and what it teaches.
-struct Case {
-    name: &'static str,
-    scene: &'static str,
-    pixel: (u32, u32),
-    /// A smaller max_depth than the scene's, to keep the snapshot readable.
-    depth: Option<u32>,
-    teaches: &'static str,
-}
-
 const CASES: &[Case] = &[
     Case { name: "spheres_miss", scene: "scenes/spheres.json", pixel: (240, 20), depth: None, teaches: "a miss: every object is tested, nothing is hit, the background is returned" },
     Case { name: "spheres_diffuse", scene: "scenes/spheres.json", pixel: (70, 170), depth: None, teaches: "a diffuse hit on the red sphere: ambient + f_att·L·kd·Od·(n·l) + specular" },
@@ -183,18 +173,13 @@ const CASES: &[Case] = &[
 #[test]
 fn snapshots_of_teaching_pixels() {
     for c in CASES {
-        let mut scene = scene(c.scene);
-        if let Some(d) = c.depth {
-            scene.render.max_depth = d;
-        }
-        let e = explain(&scene, c.pixel.0, c.pixel.1);
-        let v = rounded(&serde_json::to_value(&e).unwrap());
-        let mut settings = insta::Settings::clone_current();
-        settings.set_snapshot_path("snapshots/explain");
-        settings.set_prepend_module_to_snapshot(false);
-        settings.set_description(c.teaches);
-        settings.set_info(&serde_json::json!({"scene": c.scene, "pixel": [c.pixel.0, c.pixel.1], "max_depth": scene.render.max_depth, "spp": scene.render.spp}));
-        settings.bind(|| insta::assert_yaml_snapshot!(c.name, v));
+        snapshot_explained(
+            c,
+            scene(c.scene),
+            "snapshots/explain",
+            c.name,
+            |s| serde_json::json!({"scene": c.scene, "pixel": [c.pixel.0, c.pixel.1], "max_depth": s.render.max_depth, "spp": s.render.spp}),
+        );
     }
 }
 
