@@ -366,7 +366,7 @@ pub fn render_aov(scene: &Scene, base: &RenderSettings, aov: Aov) -> AovImage {
         let max = spp.iter().copied().max().unwrap_or(0);
         let image = crate::viz::heatmap::spp_heat_map(&spp, w, h, max);
         let legend = format!(
-            "{}: {}\nheat map, black: 0 to white: {} samples per pixel",
+            "{}: {}\nheat map, dark purple: 0 to pale yellow: {} samples per pixel",
             aov.name(),
             aov.describe(),
             max
@@ -461,10 +461,10 @@ fn legend(aov: Aov, r: &Ranges, scene: &Scene) -> String {
             "white: every shadow ray reached its light, black: all blocked, dark blue: faces away from every light (no shadow ray), black background: no hit".into()
         }
         Aov::RayDepth => format!(
-            "heat map, black: 0 (camera ray only) to white: {} (max depth)",
+            "heat map, dark purple: 0 (camera ray only) to pale yellow: {} (max depth)",
             r.max_depth
         ),
-        Aov::Cost => format!("heat map, black: 0 to white: {} per pixel", r.max_cost),
+        Aov::Cost => format!("heat map, dark purple: 0 to pale yellow: {} per pixel", r.max_cost),
         _ => "linear radiance, encoded like the image".into(),
     };
     format!("{head}; {how}")
@@ -489,19 +489,11 @@ fn hsv(h: f64, s: f64, v: f64) -> DVec3 {
     DVec3::new(k(5.0), k(3.0), k(1.0))
 }
 
-/// A heat map from black (0) through purple, red and yellow to white (1).
+/// The project's one heat scale (dark purple at 0 through red and orange to pale yellow at
+/// 1), the same as the sampling figures' ([`crate::viz::heatmap::heat_colour`]).
 pub fn heat(x: f64) -> DVec3 {
-    const STOPS: [[f64; 3]; 5] = [
-        [0.0, 0.0, 0.0],
-        [0.35, 0.05, 0.55],
-        [0.85, 0.2, 0.15],
-        [1.0, 0.8, 0.1],
-        [1.0, 1.0, 1.0],
-    ];
-    let x = if x.is_nan() { 0.0 } else { x.clamp(0.0, 1.0) } * 4.0;
-    let i = (x.floor() as usize).min(3);
-    let f = x - i as f64;
-    DVec3::from(STOPS[i]).lerp(DVec3::from(STOPS[i + 1]), f)
+    let [r, g, b] = crate::viz::heatmap::heat_colour(x);
+    DVec3::new(r as f64, g as f64, b as f64) / 255.0
 }
 
 #[cfg(test)]
@@ -528,7 +520,15 @@ mod tests {
     }
     #[test]
     fn heat_ends() {
-        assert_eq!(heat(0.0), DVec3::ZERO);
-        assert_eq!(heat(1.0), DVec3::ONE);
+        // Encoded, the AOV's colours are the heat scale's (to the byte's rounding).
+        for x in [0.0, 0.3, 0.7, 1.0] {
+            let a = crate::sampling::encode(heat(x), Encoding::Clamp);
+            let b = crate::viz::heatmap::heat_colour(x);
+            assert!(
+                (0..3).all(|c| a[c].abs_diff(b[c]) <= 1),
+                "{x}: {a:?} vs {b:?}"
+            );
+        }
+        assert!(heat(0.0).length() < 0.05 && heat(1.0).min_element() > 0.6);
     }
 }
