@@ -34,7 +34,8 @@ pub struct Accel {
     pub bvh: Bvh,
     /// Objects in the BVH, by BVH primitive index.
     pub bounded: Vec<usize>,
-    /// Objects without bounds (planes): always tested.
+    /// Objects tested by every ray, before the BVH: those without bounds (planes), and a
+    /// scene's only bounded object (its BVH would be one box around it).
     pub unbounded: Vec<usize>,
 }
 
@@ -115,7 +116,12 @@ impl Accel {
                 _ => accel.unbounded.push(i),
             }
         }
-        if !accel.linear {
+        // One bounded object (a scene that is one mesh, say) gets no tree: its box would be
+        // tested twice, once here and once at the root of its own BVH.
+        if boxes.len() == 1 {
+            accel.unbounded.append(&mut accel.bounded);
+            accel.unbounded.sort_unstable();
+        } else if !accel.linear {
             accel.bvh = Bvh::build(&boxes);
         }
         accel

@@ -1,4 +1,5 @@
-use super::{cramer_hit_prepared, Aabb, LocalHit, Observer, Prepared, Triangle};
+use super::triangle::interpolated_hit;
+use super::{cramer_hit_prepared, Aabb, Barycentric, LocalHit, Observer, Prepared, Triangle};
 use crate::accel::Bvh;
 use crate::math::Ray;
 use glam::{DVec2, DVec3};
@@ -98,16 +99,33 @@ impl Mesh {
                 tested += 1;
                 cramer_hit_prepared(&self.prepared[k], ray, t_min, t_max).map(|b| (b.t, b))
             });
-        let found = found.map(|(k, b)| (self.bvh.prims[k] as usize, b));
-        obs.mesh(tested, found.map(|(i, _)| i));
+        obs.mesh(
+            tested,
+            found.as_ref().map(|(k, _)| self.bvh.prims[*k] as usize),
+        );
         obs.bvh_nodes(visited);
-        let (index, b) = found?;
-        let tri = self.triangle(index);
+        let (k, b) = found?;
         if O::ACTIVE {
             // Report the winning face's working as a triangle would.
-            tri.intersect(ray, t_min, t_max, obs);
+            let index = self.bvh.prims[k] as usize;
+            self.triangle(index).intersect(ray, t_min, t_max, obs);
         }
-        Some(tri.local_hit(ray, &b, index as u32))
+        Some(self.local_hit(ray, &b, k))
+    }
+
+    /// The hit on the face in BVH slot `k`: what [`Triangle::local_hit`] gives for that face,
+    /// with the plane's normal taken from the prepared edges already in cache (the same
+    /// expression, so the same bits) rather than from the corners.
+    fn local_hit(&self, ray: &Ray, b: &Barycentric, k: usize) -> LocalHit {
+        let index = self.bvh.prims[k];
+        let p = &self.prepared[k];
+        let geometric = p.e1.cross(p.e2).normalize_or_zero();
+        // The face's corner indices only when there is something to read at them: on a big
+        // mesh each is a cache miss.
+        let corners = || self.faces[index as usize].map(|i| i as usize);
+        let normals = (!self.normals.is_empty()).then(|| corners().map(|i| self.normals[i]));
+        let uvs = (!self.uvs.is_empty()).then(|| corners().map(|i| self.uvs[i]));
+        interpolated_hit(ray, b, index, geometric, normals, uvs)
     }
     // ANCHOR_END: mesh_intersect
 
@@ -132,11 +150,10 @@ impl Mesh {
             hit = cramer_hit_prepared(&self.prepared[k], ray, t_min, t_max);
             hit.is_some()
         });
-        let found = found.map(|k| self.bvh.prims[k] as usize);
-        obs.mesh(tested, found);
+        obs.mesh(tested, found.map(|k| self.bvh.prims[k] as usize));
         obs.bvh_nodes(visited);
-        let (index, b) = (found?, hit?);
-        Some(self.triangle(index).local_hit(ray, &b, index as u32))
+        let (k, b) = (found?, hit?);
+        Some(self.local_hit(ray, &b, k))
     }
 
     /// Every face the whole line P + t·d crosses (any t, in no particular order), with

@@ -102,27 +102,47 @@ impl Triangle {
 
     // ANCHOR: interpolate
     pub(crate) fn local_hit(&self, ray: &Ray, b: &Barycentric, index: u32) -> LocalHit {
-        let w = [b.alpha, b.beta, b.gamma];
-        let geometric = self.geometric_normal();
-        let normal = match self.normals {
-            Some(n) => (n[0] * w[0] + n[1] * w[1] + n[2] * w[2])
-                .try_normalize()
-                .unwrap_or(geometric),
-            None => geometric,
-        };
-        let uv = match self.uvs {
-            Some(t) => t[0] * w[0] + t[1] * w[1] + t[2] * w[2],
-            None => DVec2::new(b.beta, b.gamma),
-        };
-        LocalHit {
-            t: b.t,
-            point: ray.at(b.t),
-            normal,
-            uv,
-            surface: "triangle",
-            barycentric: Some(w),
+        interpolated_hit(
+            ray,
+            b,
             index,
-        }
+            self.geometric_normal(),
+            self.normals,
+            self.uvs,
+        )
+    }
+}
+
+/// The surface at a triangle hit: the corners' normals and texture coordinates weighted by
+/// (α, β, γ); without per-corner normals, the plane's normal; without texture coordinates,
+/// (β, γ). Shared by lone triangles and mesh faces.
+pub(crate) fn interpolated_hit(
+    ray: &Ray,
+    b: &Barycentric,
+    index: u32,
+    geometric: DVec3,
+    normals: Option<[DVec3; 3]>,
+    uvs: Option<[DVec2; 3]>,
+) -> LocalHit {
+    let w = [b.alpha, b.beta, b.gamma];
+    let normal = match normals {
+        Some(n) => (n[0] * w[0] + n[1] * w[1] + n[2] * w[2])
+            .try_normalize()
+            .unwrap_or(geometric),
+        None => geometric,
+    };
+    let uv = match uvs {
+        Some(t) => t[0] * w[0] + t[1] * w[1] + t[2] * w[2],
+        None => DVec2::new(b.beta, b.gamma),
+    };
+    LocalHit {
+        t: b.t,
+        point: ray.at(b.t),
+        normal,
+        uv,
+        surface: "triangle",
+        barycentric: Some(w),
+        index,
     }
     // ANCHOR_END: interpolate
 }
@@ -184,9 +204,11 @@ pub fn cramer_hit(v: &[DVec3; 3], ray: &Ray, t_min: f64, t_max: f64) -> Option<B
     cramer_hit_prepared(&Prepared::new(v), ray, t_min, t_max)
 }
 
-/// [`cramer_hit`] on a prepared face. The verdict is `cramer_prepared` followed by the
-/// inside test; it is written here with the same expressions in the same order, stopping at
-/// the first failed condition, because most faces a ray is tested against are missed.
+/// [`cramer_hit`] on a prepared face: the same expressions as `cramer_prepared` followed by
+/// the inside test, so the verdict and every bit of the result are the same. It is ordered
+/// for speed, because most faces a ray is tested against are missed: first the signs of
+/// β and γ, read off their numerators without dividing (β = num/det ≥ 0 exactly when num
+/// and det do not have opposite signs), then t, then the divisions.
 // `!(x >= 0.0)` on purpose: a NaN must fail the test, as it fails `x >= 0.0` in `cramer_hit`.
 #[allow(clippy::neg_cmp_op_on_partial_ord)]
 #[inline(always)]
@@ -198,16 +220,28 @@ pub fn cramer_hit_prepared(p: &Prepared, ray: &Ray, t_min: f64, t_max: f64) -> O
     if determinant == 0.0 || !determinant.is_finite() {
         return None;
     }
+    // `num / det >= 0` without the division (det is finite and not zero).
+    let nonnegative = |num: f64| {
+        if determinant > 0.0 {
+            num >= 0.0
+        } else {
+            num <= 0.0
+        }
+    };
+    let beta_num = m.dot(s.cross(p.e2));
+    if !nonnegative(beta_num) {
+        return None;
+    }
+    let gamma_num = m.dot(p.e1.cross(s));
+    if !nonnegative(gamma_num) {
+        return None;
+    }
     let t = s.dot(n) / determinant;
     if !(t >= t_min && t <= t_max) {
         return None;
     }
-    let beta = m.dot(s.cross(p.e2)) / determinant;
-    if !(beta >= 0.0) {
-        return None;
-    }
-    let gamma = m.dot(p.e1.cross(s)) / determinant;
-    if !(gamma >= 0.0 && beta + gamma <= 1.0) {
+    let (beta, gamma) = (beta_num / determinant, gamma_num / determinant);
+    if !(beta >= 0.0 && gamma >= 0.0 && beta + gamma <= 1.0) {
         return None;
     }
     Some(Barycentric {
@@ -220,7 +254,9 @@ pub fn cramer_hit_prepared(p: &Prepared, ray: &Ray, t_min: f64, t_max: f64) -> O
 }
 
 /// A triangle ready for repeated ray tests: corner a and the edges e1 = b − a, e2 = c − a,
-/// in f64 (72 bytes). Computing the edges once changes no bit of any result.
+/// in f64 (72 bytes). Computing the edges once changes no bit of any result. (Storing
+/// e1 × e2 too saves a cross product per test but makes each face 96 bytes; on the
+/// 1M-triangle terrain, whose faces do not fit in cache, that was no faster.)
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Prepared {
     pub a: DVec3,
@@ -231,10 +267,7 @@ pub struct Prepared {
 impl Prepared {
     #[inline]
     pub fn new(v: &[DVec3; 3]) -> Prepared {
-        Prepared {
-            a: v[0],
-            e1: v[1] - v[0],
-            e2: v[2] - v[0],
-        }
+        let (e1, e2) = (v[1] - v[0], v[2] - v[0]);
+        Prepared { a: v[0], e1, e2 }
     }
 }
