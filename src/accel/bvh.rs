@@ -698,11 +698,27 @@ fn split(input: &Input, prims: &mut [u32], range: Range) -> Option<(usize, Range
     if n <= 1 || range.depth >= MAX_DEPTH {
         return None;
     }
+    // The bin arrays are sized for the bins used: most nodes are small, and clearing three
+    // rows of 16 boxes for each of them was a large part of the build.
+    match n {
+        0..=4 => split_binned::<4>(input, prims, range),
+        5..=8 => split_binned::<8>(input, prims, range),
+        _ => split_binned::<BINS>(input, prims, range),
+    }
+}
+
+/// [`split`] with room for `B` bins per axis (B ≥ the bins used).
+fn split_binned<const B: usize>(
+    input: &Input,
+    prims: &mut [u32],
+    range: Range,
+) -> Option<(usize, Range, Range)> {
+    let n = prims.len();
     let cb = range.centroid_bounds;
     let extent = cb.max - cb.min;
     // Small nodes get fewer bins (as many as primitives, at least 4): the sweeps cost
     // O(bins) and dominate for the many nodes near the leaves.
-    let bins = n.clamp(4, BINS);
+    let bins = n.clamp(4, BINS).min(B);
     let mut scale = Vec3A::ZERO;
     for axis in 0..3 {
         if extent[axis] > 0.0 {
@@ -716,8 +732,8 @@ fn split(input: &Input, prims: &mut [u32], range: Range) -> Option<(usize, Range
     // One pass bins every primitive on all three axes (in parallel chunks for big nodes;
     // unions and counts do not depend on the order, so the tree does not either).
     let binned = |chunk: &[u32]| {
-        let mut bin_box = [[FBox::EMPTY; BINS]; 3];
-        let mut bin_n = [[0u32; BINS]; 3];
+        let mut bin_box = [[FBox::EMPTY; B]; 3];
+        let mut bin_n = [[0u32; B]; 3];
         for &p in chunk {
             let (b, c) = (input.boxes[p as usize], input.centroids[p as usize]);
             let i = bin(c);
@@ -732,10 +748,10 @@ fn split(input: &Input, prims: &mut [u32], range: Range) -> Option<(usize, Range
     let (bin_box, bin_n) = if n >= PARALLEL_MIN * 4 {
         use rayon::prelude::*;
         prims.par_chunks(PARALLEL_MIN).map(binned).reduce(
-            || ([[FBox::EMPTY; BINS]; 3], [[0u32; BINS]; 3]),
+            || ([[FBox::EMPTY; B]; 3], [[0u32; B]; 3]),
             |(mut ab, mut an), (bb, bn)| {
                 for axis in 0..3 {
-                    for i in 0..BINS {
+                    for i in 0..B {
                         ab[axis][i] = ab[axis][i].union(bb[axis][i]);
                         an[axis][i] += bn[axis][i];
                     }
@@ -748,13 +764,13 @@ fn split(input: &Input, prims: &mut [u32], range: Range) -> Option<(usize, Range
     };
     let mut best: Option<(f32, usize, usize)> = None; // cost, axis, first bin on the right
                                                       // The union of bins i.. on each axis: the right child's box for a split before bin i.
-    let mut right_box = [[FBox::EMPTY; BINS]; 3];
+    let mut right_box = [[FBox::EMPTY; B]; 3];
     for axis in 0..3 {
         if scale[axis] == 0.0 {
             continue;
         }
         // Right-hand sweep: area · count of bins i.. for every i.
-        let mut right_cost = [0f32; BINS];
+        let mut right_cost = [0f32; B];
         let (mut acc, mut count) = (FBox::EMPTY, 0u32);
         for i in (1..bins).rev() {
             acc = acc.union(bin_box[axis][i]);
