@@ -217,23 +217,16 @@ pub fn cramer_hit_prepared(p: &Prepared, ray: &Ray, t_min: f64, t_max: f64) -> O
     let m = -ray.dir;
     let n = p.e1.cross(p.e2);
     let determinant = m.dot(n);
-    if determinant == 0.0 || !determinant.is_finite() {
-        return None;
-    }
-    // `num / det >= 0` without the division (det is finite and not zero).
-    let nonnegative = |num: f64| {
-        if determinant > 0.0 {
-            num >= 0.0
-        } else {
-            num <= 0.0
-        }
-    };
     let beta_num = m.dot(s.cross(p.e2));
-    if !nonnegative(beta_num) {
-        return None;
-    }
     let gamma_num = m.dot(p.e1.cross(s));
-    if !nonnegative(gamma_num) {
+    // `num / det >= 0` without dividing, for β and γ at once, with `&` and `|` rather than
+    // `&&` and `||`: one branch instead of four data-dependent ones (a zero or non-finite
+    // determinant fails both sign tests).
+    let positive = (determinant > 0.0) & (determinant < f64::INFINITY);
+    let negative = (determinant < 0.0) & (determinant > f64::NEG_INFINITY);
+    let inside = (positive & (beta_num >= 0.0) & (gamma_num >= 0.0))
+        | (negative & (beta_num <= 0.0) & (gamma_num <= 0.0));
+    if !inside {
         return None;
     }
     let t = s.dot(n) / determinant;
