@@ -196,6 +196,53 @@ mod tests {
             );
         }
     }
+
+    /// The mesh test (signs first, no short-circuits) gives exactly what Cramer's rule plus
+    /// the inside test give, on the inputs where the order of tests could matter: rays
+    /// through corners and along edges (β or γ exactly 0, either sign of zero), rays in the
+    /// triangle's plane (det = 0), degenerate triangles, tiny and huge scales, and NaN.
+    #[test]
+    fn mesh_test_agrees_with_cramer_on_edge_cases() {
+        let mut rng = crate::math::Rng::new(&[6]);
+        let mut checked = [0usize; 2];
+        for i in 0..20_000 {
+            let mut r = || rng.next_f64() * 2.0 - 1.0;
+            let scale = [1e-150, 1e-8, 1.0, 1e8, 1e150][i % 5];
+            let v = [
+                DVec3::new(r(), r(), r()) * scale,
+                DVec3::new(r(), r(), r()) * scale,
+                DVec3::new(r(), r(), r()) * scale,
+            ];
+            let v = match i % 7 {
+                0 => [v[0], v[1], v[0] * 2.0 - v[1]], // collinear: degenerate
+                1 => [v[0], v[0], v[2]],              // two equal corners
+                _ => v,
+            };
+            let target = match i % 4 {
+                0 => v[i % 3],            // a corner
+                1 => (v[0] + v[1]) * 0.5, // an edge
+                _ => v[0] + (v[1] - v[0]) * r().abs() + (v[2] - v[0]) * r().abs() * 0.5,
+            };
+            let origin = target + DVec3::new(r(), r(), r()) * scale * 3.0;
+            let dir = match i % 11 {
+                0 => v[1] - v[0], // in the plane (parallel to an edge)
+                1 => DVec3::new(f64::NAN, 1.0, 0.0),
+                _ => target - origin,
+            };
+            let ray = Ray { origin, dir };
+            let expect = cramer(&v, &ray).filter(|b| {
+                b.beta >= 0.0 && b.gamma >= 0.0 && b.beta + b.gamma <= 1.0 && b.t >= 0.0
+            });
+            let got = cramer_hit_prepared(&Prepared::new(&v), &ray, 0.0, f64::INFINITY);
+            assert_eq!(
+                got.map(|b| b.t.to_bits()),
+                expect.map(|b| b.t.to_bits()),
+                "case {i}"
+            );
+            checked[got.is_some() as usize] += 1;
+        }
+        assert!(checked[0] > 1000 && checked[1] > 1000, "{checked:?}");
+    }
 }
 
 /// Cramer's rule plus the inside and range tests, for meshes (no observer, no surface record).
