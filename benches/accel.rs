@@ -671,7 +671,7 @@ fn print_mesh_table(rows: &[MeshRow]) {
     );
     for r in rows {
         print!(
-            "{:<17} rtlab hits {:>7} Σt {:.6e} occluded {}/{} | load + build {:.2} s, then explain of a pixel {:.2} ms; {:.0} bytes/triangle (mesh + BVH + prepared faces)",
+            "{:<17} rtlab hits {:>7} Σt {:.6e} occluded {}/{} | load + build {:.2} s, then explain of a pixel {:.2} ms; {:.0} bytes/triangle (mesh + BVH + packed faces)",
             r.name, r.hits, r.sum_t, r.occluded.1, r.occluded.0, r.load_s, r.explain_ms, r.bytes_per_tri
         );
         if let Some(e) = &r.embree {

@@ -60,7 +60,18 @@ pub fn parse(path: &Path, text: &str) -> Result<Mesh> {
         match tag {
             "v" => {
                 let p = nums(3, words)?;
-                v.push(DVec3::new(p[0], p[1], p[2]));
+                // Positions are single precision (see `Mesh`): rounded here already, so that
+                // the degenerate-face check below sees the values the mesh will hold.
+                if let Some(w) = p.iter().find(|x| !(**x as f32).is_finite()) {
+                    return Err(Error::input(
+                        path,
+                        at(0),
+                        format!("vertex coordinate {w} is beyond single precision (±3.4e38)"),
+                    ));
+                }
+                v.push(crate::shapes::single_precision(DVec3::new(
+                    p[0], p[1], p[2],
+                )));
             }
             "vt" => {
                 let p = nums(2, words)?;

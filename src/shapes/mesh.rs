@@ -6,11 +6,13 @@ use glam::{DVec2, DVec3};
 
 // ANCHOR: mesh
 /// A triangle mesh in object space, with optional per-vertex normals and texture coordinates
-/// (one index per corner, as OBJ files are flattened on load).
+/// (one index per corner, as OBJ files are flattened on load). Vertex positions are single
+/// precision, as in OBJ readers and GPU pipelines: [`Mesh::new`] rounds them to f32 (and
+/// keeps them as f64 holding those values), and everything is computed from them in f64.
 ///
-/// It carries its own BVH over its faces, and every face prepared for intersection
-/// (corner and two edges, [`Prepared`]) in the BVH's leaf order, so a leaf's faces sit next
-/// to each other in memory: slot k of `prepared` is face `bvh.prims[k]`.
+/// It carries its own BVH over its faces, and every face's corners in f32 ([`PackedFace`],
+/// 36 bytes) in the BVH's leaf order, so a leaf's faces sit next to each other in memory:
+/// slot k of `packed` is face `bvh.prims[k]`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Mesh {
     pub positions: Vec<DVec3>,
@@ -20,7 +22,39 @@ pub struct Mesh {
     pub bounds: Aabb,
     /// The bounding volume hierarchy over the faces (object space).
     pub bvh: Bvh,
-    pub prepared: Vec<Prepared>,
+    pub packed: Vec<PackedFace>,
+}
+
+/// A mesh face as the BVH's leaves keep it: its three corners in f32. The mesh's positions
+/// hold exactly these values, so [`PackedFace::prepared`] gives the same corner and edges,
+/// bit for bit, as [`Prepared::new`] on the mesh's own corners, in half the bytes: on a
+/// million triangles that do not fit in cache, bytes per face are time.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PackedFace {
+    pub corners: [[f32; 3]; 3],
+}
+
+impl PackedFace {
+    fn new(v: &[DVec3; 3]) -> PackedFace {
+        PackedFace {
+            corners: v.map(|p| p.as_vec3().to_array()),
+        }
+    }
+
+    /// The face ready for Cramer's rule: corner a and edges e1 = b − a, e2 = c − a in f64.
+    #[inline(always)]
+    pub fn prepared(&self) -> Prepared {
+        Prepared::new(
+            &self
+                .corners
+                .map(|c| DVec3::new(c[0] as f64, c[1] as f64, c[2] as f64)),
+        )
+    }
+}
+
+/// The nearest f32 value, kept as f64: how mesh vertices are stored.
+pub fn single_precision(p: DVec3) -> DVec3 {
+    p.as_vec3().as_dvec3()
 }
 // ANCHOR_END: mesh
 
@@ -31,8 +65,9 @@ impl Mesh {
         uvs: Vec<DVec2>,
         faces: Vec<[u32; 3]>,
     ) -> Mesh {
+        let positions: Vec<DVec3> = positions.into_iter().map(single_precision).collect();
         let bounds = Aabb::around(&positions);
-        let (bvh, prepared) = Mesh::build_bvh(&positions, &faces);
+        let (bvh, packed) = Mesh::build_bvh(&positions, &faces);
         Mesh {
             positions,
             normals,
@@ -40,13 +75,13 @@ impl Mesh {
             faces,
             bounds,
             bvh,
-            prepared,
+            packed,
         }
     }
 
-    /// Builds the BVH over the faces and the prepared faces in its leaf order (what `new`
-    /// does; public so the benchmarks can time it alone).
-    pub fn build_bvh(positions: &[DVec3], faces: &[[u32; 3]]) -> (Bvh, Vec<Prepared>) {
+    /// Builds the BVH over the faces and the packed faces in its leaf order (what `new`
+    /// does; public so the benchmarks can time it alone). `positions` are single precision.
+    pub fn build_bvh(positions: &[DVec3], faces: &[[u32; 3]]) -> (Bvh, Vec<PackedFace>) {
         use rayon::prelude::*;
         let corners = |f: &[u32; 3]| f.map(|i| positions[i as usize]);
         let boxes: Vec<Aabb> = faces
@@ -55,12 +90,12 @@ impl Mesh {
             .collect();
         let bvh = Bvh::build(&boxes);
         drop(boxes);
-        let prepared = bvh
+        let packed = bvh
             .prims
             .par_iter()
-            .map(|&i| Prepared::new(&corners(&faces[i as usize])))
+            .map(|&i| PackedFace::new(&corners(&faces[i as usize])))
             .collect();
-        (bvh, prepared)
+        (bvh, packed)
     }
 
     /// The face as a standalone triangle (with its normals and uvs when the mesh has them).
@@ -77,7 +112,7 @@ impl Mesh {
     /// Bytes held per face by the intersection structures (BVH nodes, leaf order, prepared
     /// faces), averaged; the vertex and face arrays come on top.
     pub fn accel_bytes(&self) -> usize {
-        self.bvh.memory_bytes() + self.prepared.len() * std::mem::size_of::<Prepared>()
+        self.bvh.memory_bytes() + self.packed.len() * std::mem::size_of::<PackedFace>()
     }
 
     // ANCHOR: mesh_intersect
@@ -97,7 +132,7 @@ impl Mesh {
             .bvh
             .closest(ray, t_min, t_max, &mut visited, |k, t_max| {
                 tested += 1;
-                cramer_hit_prepared(&self.prepared[k], ray, t_min, t_max).map(|b| (b.t, b))
+                cramer_hit_prepared(&self.packed[k].prepared(), ray, t_min, t_max).map(|b| (b.t, b))
             });
         obs.mesh(
             tested,
@@ -114,11 +149,11 @@ impl Mesh {
     }
 
     /// The hit on the face in BVH slot `k`: what [`Triangle::local_hit`] gives for that face,
-    /// with the plane's normal taken from the prepared edges already in cache (the same
+    /// with the plane's normal taken from the packed corners already in cache (the same
     /// expression, so the same bits) rather than from the corners.
     fn local_hit(&self, ray: &Ray, b: &Barycentric, k: usize) -> LocalHit {
         let index = self.bvh.prims[k];
-        let p = &self.prepared[k];
+        let p = self.packed[k].prepared();
         let geometric = p.e1.cross(p.e2).normalize_or_zero();
         // The face's corner indices only when there is something to read at them: on a big
         // mesh each is a cache miss.
@@ -147,7 +182,7 @@ impl Mesh {
         let mut hit = None;
         let found = self.bvh.any(ray, t_min, t_max, &mut visited, |k| {
             tested += 1;
-            hit = cramer_hit_prepared(&self.prepared[k], ray, t_min, t_max);
+            hit = cramer_hit_prepared(&self.packed[k].prepared(), ray, t_min, t_max);
             hit.is_some()
         });
         obs.mesh(tested, found.map(|k| self.bvh.prims[k] as usize));
@@ -165,7 +200,7 @@ impl Mesh {
             .any(ray, f64::NEG_INFINITY, f64::INFINITY, &mut visited, |k| {
                 let i = self.bvh.prims[k] as usize;
                 let (lo, hi) = (f64::NEG_INFINITY, f64::INFINITY);
-                if let Some(b) = cramer_hit_prepared(&self.prepared[k], ray, lo, hi) {
+                if let Some(b) = cramer_hit_prepared(&self.packed[k].prepared(), ray, lo, hi) {
                     let tri = self.triangle(i);
                     let entering = tri.geometric_normal().dot(ray.dir) < 0.0;
                     found(tri.local_hit(ray, &b, i as u32), entering);

@@ -26,7 +26,7 @@ pub use csg::{Csg, CsgChild};
 pub use cuboid::Cuboid;
 pub use cylinder::Cylinder;
 pub use interval::{CsgOp, Span};
-pub use mesh::Mesh;
+pub use mesh::{single_precision, Mesh, PackedFace};
 pub use plane::Plane;
 pub use quadratic::{Quadratic, Roots, TANGENT_TOLERANCE};
 pub use sphere::Sphere;

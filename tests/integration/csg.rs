@@ -642,7 +642,9 @@ fn closed_meshes_are_csg_solids_and_open_ones_are_refused() {
     // same crossing: it still counts once, and the pieces are the prism's minus the hole.
     let along_x = Ray::new(DVec3::new(-3.0, 0.25, 0.0), DVec3::X);
     let s = csg.spans(&along_x, &mut NoObserver);
-    let side = 0.866025 * 0.75 / 1.5; // half-width of the cross-section at y = 0.25
+    // Half-width of the cross-section at y = 0.25; the file's 0.866025 as the mesh holds it
+    // (vertex positions are single precision).
+    let side = 0.866025f32 as f64 * 0.75 / 1.5;
     let hole = (0.3f64 * 0.3 - 0.25 * 0.25).sqrt();
     assert!(
         close(
