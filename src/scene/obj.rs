@@ -66,7 +66,7 @@ pub fn parse(path: &Path, text: &str) -> Result<Mesh> {
                     return Err(Error::input(
                         path,
                         at(0),
-                        format!("vertex coordinate {w} is beyond single precision (±3.4e38)"),
+                        format!("vertex coordinate {w:e} is beyond single precision (±3.4e38)"),
                     ));
                 }
                 v.push(crate::shapes::single_precision(DVec3::new(

@@ -362,6 +362,12 @@ fn cases() -> Vec<Case> {
             vec!["m.obj", "line 3:5", "expected a finite number, found \"one\""],
         ),
         c(
+            "OBJ coordinate beyond single precision",
+            mesh(b"v 0 0 0\nv 1 0 0\nv 0 1e39 0\nf 1 2 3\n"),
+            r(),
+            vec!["m.obj", "line 3", "vertex coordinate 1e39 is beyond single precision"],
+        ),
+        c(
             "OBJ face index out of range",
             mesh(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n"),
             r(),
