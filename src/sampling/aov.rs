@@ -10,8 +10,7 @@ use super::{pixel_samples, render_reconstruct, Filter};
 use crate::math::Ray;
 use crate::scene::{Encoding, RenderSettings, Scene};
 use crate::shading::{LightTerm, Shading};
-use crate::shapes::NoObserver;
-use crate::trace::{trace_sample, End, HitInfo, RayKind, Recorder};
+use crate::trace::{trace_sample, CountObserver, End, HitInfo, RayKind, Recorder};
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
@@ -223,7 +222,8 @@ pub struct AovRecorder {
     open: u32,
     /// A shadow ray of the camera ray's hit is in flight.
     primary_shadow: bool,
-    obs: NoObserver,
+    /// What meshes did inside: faces tested and nodes of their own BVHs.
+    obs: CountObserver,
 }
 
 impl AovRecorder {
@@ -231,11 +231,18 @@ impl AovRecorder {
     pub fn reset(&mut self) {
         *self = AovRecorder::default();
     }
+
+    /// The finished sample, its cost including the work inside meshes.
+    pub fn take(&mut self) -> AovSample {
+        let mut sample = std::mem::take(&mut self.sample);
+        sample.cost += self.obs.faces + self.obs.nodes;
+        sample
+    }
 }
 
 impl Recorder for AovRecorder {
-    type Obs = NoObserver;
-    fn observer(&mut self) -> &mut NoObserver {
+    type Obs = CountObserver;
+    fn observer(&mut self) -> &mut CountObserver {
         &mut self.obs
     }
     fn begin_ray(&mut self, kind: RayKind, depth: u32, _ray: &Ray) {
@@ -322,7 +329,7 @@ pub fn trace_aov_samples(scene: &Scene, settings: &RenderSettings) -> AovSamples
                         .map(|(k, film)| {
                             rec.reset();
                             trace_sample(scene, settings, x, y, k as u32, film, &mut rec);
-                            (film, rec.sample)
+                            (film, rec.take())
                         })
                         .collect()
                 })

@@ -10,7 +10,7 @@ mod recorder;
 mod tree;
 mod whitted;
 
-pub use counter::{Counter, RayCounts};
+pub use counter::{CountObserver, Counter, RayCounts};
 pub use recorder::{End, HitInfo, NoRecorder, RayKind, Recorder};
 pub use tree::{HitNode, LightNode, RayNode, ShadingNode, TestNode, TreeRecorder};
 pub use whitted::{trace_sample, SampleResult, Tracer};

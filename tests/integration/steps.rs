@@ -461,21 +461,33 @@ fn pixel_storyboard_has_one_frame_per_event_of_the_ray_tree() {
 
 #[test]
 fn cost_aov_counts_what_stats_count() {
-    // The cost AOV and `--stats` watch the same tracer: per pixel, the same work.
-    let scene = small("scenes/mirrors.json", 48, 30);
-    let stats = render(&scene, &scene.render, true, None).stats.unwrap();
-    let samples = trace_aov_samples(&scene, &scene.render);
-    for (i, px) in samples.pixels.iter().enumerate() {
-        let cost: u64 = px.iter().map(|s| s.1.cost).sum();
-        assert_eq!(cost, stats.cost[i], "pixel {i}");
-        for (_, s) in px {
-            assert!(s.ray_depth <= scene.render.max_depth);
+    // The cost AOV and `--stats` watch the same tracer: per pixel, the same work, including
+    // the faces and BVH nodes inside meshes (the teapot).
+    for (file, w, h) in [
+        ("scenes/mirrors.json", 48, 30),
+        ("scenes/teapot.json", 64, 48),
+    ] {
+        let scene = small(file, w, h);
+        let stats = render(&scene, &scene.render, true, None).stats.unwrap();
+        let samples = trace_aov_samples(&scene, &scene.render);
+        for (i, px) in samples.pixels.iter().enumerate() {
+            let cost: u64 = px.iter().map(|s| s.1.cost).sum();
+            assert_eq!(cost, stats.cost[i], "{file} pixel {i}");
+            for (_, s) in px {
+                assert!(s.ray_depth <= scene.render.max_depth);
+            }
+        }
+        if file.contains("mirrors") {
+            assert!(samples
+                .pixels
+                .iter()
+                .any(|p| p[0].1.ray_depth == scene.render.max_depth));
+        } else {
+            // A pixel on the teapot costs more than testing the scene's few objects.
+            let most = samples.pixels.iter().map(|p| p[0].1.cost).max().unwrap();
+            assert!(most > 3 * scene.objects.len() as u64, "max cost {most}");
         }
     }
-    assert!(samples
-        .pixels
-        .iter()
-        .any(|p| p[0].1.ray_depth == scene.render.max_depth));
 }
 
 /// A storyboard keeps one view: frame 1 and the last frame put the eye's label at the same
