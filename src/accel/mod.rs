@@ -140,6 +140,10 @@ impl Accel {
         mut t_max: f64,
         rec: &mut R,
     ) -> Option<(usize, LocalHit)> {
+        if let ([i], true) = (self.unbounded.as_slice(), self.bvh.nodes.is_empty()) {
+            // One object and no tree (a scene that is one mesh): nothing to compare.
+            return test_object(objects, *i, ray, t_min, t_max, rec).map(|h| (*i, h));
+        }
         let mut best: Option<(usize, LocalHit)> = None;
         let mut key: Option<(f64, usize)> = None;
         for &i in &self.unbounded {
