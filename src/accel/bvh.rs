@@ -136,8 +136,9 @@ impl Node {
 /// hi = 1) it enters each slab through, and its origin rounded twice, per axis.
 ///
 /// The exact entry (plane − o)·(1/d) is bounded from below by using, for the entry plane,
-/// the origin rounded towards the side that makes the difference smaller (up when 1/d > 0,
-/// down when 1/d < 0), and the exact exit from above by rounding the other way. What is left
+/// an f32 origin on the side that makes the difference smaller (at or above o when
+/// 1/d > 0, at or below when 1/d < 0; see [`bracket`]), and the exact exit from above by
+/// taking the other side. What is left
 /// are the three f32 roundings of (plane − o′)·(1/d) itself (the subtraction, 1/d, the
 /// product): relative errors, covered by widening by [`GAMMA5`]·|t|.
 #[derive(Debug, Clone, Copy)]
@@ -158,9 +159,10 @@ impl RayBox {
         let inv = ray.dir.recip().to_array();
         let o = ray.origin.to_array();
         let neg = inv.map(|x| x < 0.0);
+        let (below, above) = (o.map(|x| bracket(x).0), o.map(|x| bracket(x).1));
         RayBox {
-            origin_in: std::array::from_fn(|k| if neg[k] { down(o[k]) } else { up(o[k]) }),
-            origin_out: std::array::from_fn(|k| if neg[k] { up(o[k]) } else { down(o[k]) }),
+            origin_in: std::array::from_fn(|k| if neg[k] { below[k] } else { above[k] }),
+            origin_out: std::array::from_fn(|k| if neg[k] { above[k] } else { below[k] }),
             inv: inv.map(|x| x as f32),
             neg,
         }
@@ -298,6 +300,18 @@ impl FBox {
             count,
         }
     }
+}
+
+/// Two f32 values, one no greater and one no less than x (finite, within f32's range),
+/// without branches: x rounded to nearest, moved each way by 2⁻²³ of itself (at least one
+/// unit in the last place, more than the half unit rounding can be off) plus the smallest
+/// normal f32 (for x near zero). Both moves are exact in f32. Looser than [`down`] and [`up`]
+/// by about an ulp, and much cheaper: it runs for every ray's origin.
+#[inline(always)]
+fn bracket(x: f64) -> (f32, f32) {
+    let f = x as f32;
+    let m = f.abs() * f32::EPSILON + f32::MIN_POSITIVE;
+    (f - m, f + m)
 }
 
 /// The largest f32 not above x.
@@ -862,6 +876,27 @@ fn partition(prims: &mut [u32], mut left: impl FnMut(u32) -> bool) -> usize {
 mod tests {
     use super::*;
     use crate::math::Rng;
+
+    #[test]
+    fn bracket_holds_its_value() {
+        let mut rng = Rng::new(&[41]);
+        for i in 0..200_000 {
+            let scale = 10f64.powi((i % 76) - 40); // 1e-40 to 1e35: within f32's range
+            let x = (rng.next_f64() * 2.0 - 1.0) * scale;
+            for x in [
+                x,
+                x as f32 as f64,
+                0.0,
+                -0.0,
+                1e-45,
+                -3e-39,
+                f32::MAX as f64 * 0.99,
+            ] {
+                let (lo, hi) = bracket(x);
+                assert!(lo as f64 <= x && x <= hi as f64, "{x}: {lo} {hi}");
+            }
+        }
+    }
 
     #[test]
     fn rounding_is_outward() {
