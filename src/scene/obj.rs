@@ -22,6 +22,11 @@ pub fn load(path: &Path) -> Result<Mesh> {
 
 pub fn parse(path: &Path, text: &str) -> Result<Mesh> {
     let (mut v, mut vt, mut vn) = (Vec::new(), Vec::new(), Vec::new());
+    let mut poly: Vec<u32> = Vec::new();
+    // Corner (position, uv, normal) -> mesh vertex. Most files use each position with one
+    // uv and normal, so the first corner seen for a position is kept in a plain array and
+    // only the others go through the hash map (the map was most of the load time).
+    let mut first: Vec<Option<((u32, u32), u32)>> = Vec::new();
     let mut corners: HashMap<(u32, u32, u32), u32> = HashMap::new();
     let (mut positions, mut normals, mut uvs, mut faces) =
         (Vec::new(), Vec::new(), Vec::new(), Vec::new());
@@ -32,30 +37,31 @@ pub fn parse(path: &Path, text: &str) -> Result<Mesh> {
         let line = line.split('#').next().unwrap_or("");
         let mut words = line.split_whitespace();
         let Some(tag) = words.next() else { continue };
-        let nums = |n: usize, words: std::str::SplitWhitespace| -> Result<Vec<f64>> {
-            let xs: Vec<&str> = words.collect();
-            if xs.len() < n {
-                return Err(Error::input(
-                    path,
-                    at(0),
-                    format!("'{tag}' needs {n} numbers, found {}", xs.len()),
-                ));
+        // The byte column of a word of this line (words are slices of it).
+        let column = |w: &str| w.as_ptr() as usize - line.as_ptr() as usize;
+        let nums = |n: usize, mut words: std::str::SplitWhitespace| -> Result<[f64; 3]> {
+            let mut out = [0.0; 3];
+            for (k, x) in out.iter_mut().enumerate().take(n) {
+                let Some(w) = words.next() else {
+                    return Err(Error::input(
+                        path,
+                        at(0),
+                        format!("'{tag}' needs {n} numbers, found {k}"),
+                    ));
+                };
+                *x = w
+                    .parse::<f64>()
+                    .ok()
+                    .filter(|x| x.is_finite())
+                    .ok_or_else(|| {
+                        Error::input(
+                            path,
+                            at(column(w)),
+                            format!("expected a finite number, found \"{w}\""),
+                        )
+                    })?;
             }
-            xs[..n]
-                .iter()
-                .map(|w| {
-                    w.parse::<f64>()
-                        .ok()
-                        .filter(|x| x.is_finite())
-                        .ok_or_else(|| {
-                            Error::input(
-                                path,
-                                at(line.find(w).unwrap_or(0)),
-                                format!("expected a finite number, found \"{w}\""),
-                            )
-                        })
-                })
-                .collect()
+            Ok(out)
         };
         match tag {
             "v" => {
@@ -72,6 +78,7 @@ pub fn parse(path: &Path, text: &str) -> Result<Mesh> {
                 v.push(crate::shapes::single_precision(DVec3::new(
                     p[0], p[1], p[2],
                 )));
+                first.push(None);
             }
             "vt" => {
                 let p = nums(2, words)?;
@@ -82,9 +89,9 @@ pub fn parse(path: &Path, text: &str) -> Result<Mesh> {
                 vn.push(DVec3::new(p[0], p[1], p[2]));
             }
             "f" => {
-                let mut poly = Vec::new();
+                poly.clear();
                 for w in words {
-                    let col = line.find(w).unwrap_or(0);
+                    let col = column(w);
                     let mut parts = w.split('/');
                     let resolve = |s: Option<&str>,
                                    len: usize,
@@ -115,13 +122,24 @@ pub fn parse(path: &Path, text: &str) -> Result<Mesh> {
                     let ni = resolve(parts.next(), vn.len(), "normal")?;
                     any_vt |= ti.is_some();
                     any_vn |= ni.is_some();
-                    let key = (pi, ti.map_or(u32::MAX, |x| x), ni.map_or(u32::MAX, |x| x));
-                    let id = *corners.entry(key).or_insert_with(|| {
+                    let rest = (ti.map_or(u32::MAX, |x| x), ni.map_or(u32::MAX, |x| x));
+                    let mut new_vertex = || {
                         positions.push(v[pi as usize]);
                         uvs.push(ti.map_or(DVec2::ZERO, |i| vt[i as usize]));
                         normals.push(ni.map_or(DVec3::ZERO, |i| vn[i as usize]));
                         positions.len() as u32 - 1
-                    });
+                    };
+                    let id = match first[pi as usize] {
+                        Some((seen, id)) if seen == rest => id,
+                        None => {
+                            let id = new_vertex();
+                            first[pi as usize] = Some((rest, id));
+                            id
+                        }
+                        Some(_) => *corners
+                            .entry((pi, rest.0, rest.1))
+                            .or_insert_with(new_vertex),
+                    };
                     poly.push(id);
                 }
                 if poly.len() < 3 {
@@ -175,5 +193,24 @@ mod tests {
         let e = parse(Path::new("q.obj"), "v 0 0 zero\n").unwrap_err();
         assert!(e.to_string().contains("line 1:7"), "{e}");
         assert!(parse(Path::new("q.obj"), "").is_err());
+    }
+
+    /// A position used with one normal is one mesh vertex, shared by every face that uses it
+    /// that way; used with a second normal (a crease) it becomes a second vertex, and coming
+    /// back to the first normal finds the first vertex again.
+    #[test]
+    fn corners_are_shared_exactly_when_position_uv_and_normal_agree() {
+        let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvn 0 0 1\nvn 1 0 0\n\
+                    f 1//1 2//1 3//1\nf 2//1 4//1 3//1\nf 2//2 4//2 3//1\nf 1//1 2//2 3//1\n";
+        let m = parse(Path::new("n.obj"), text).unwrap();
+        // Vertices: 1/1, 2/1, 3/1, 4/1, then 2/2 and 4/2; 1/1 and 3/1 are found again.
+        assert_eq!(m.positions.len(), 6);
+        assert_eq!(m.faces, vec![[0, 1, 2], [1, 3, 2], [4, 5, 2], [0, 4, 2]]);
+        assert_eq!(m.normals[4], DVec3::X);
+        assert_eq!(m.normals[1], DVec3::Z);
+        // The column of a bad index is where that word starts, even when an identical word
+        // comes earlier on the line.
+        let e = parse(Path::new("n.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 1 9\n").unwrap_err();
+        assert!(e.to_string().contains("line 4:7"), "{e}");
     }
 }
