@@ -381,9 +381,9 @@ impl Bvh {
     // ANCHOR_END: build
 
     // ANCHOR: closest
-    /// Closest hit: opens a node, pushes the children the ray enters farthest first, so the
-    /// nearest comes off the stack next, and skips any child whose box starts beyond the best
-    /// t so far. `test(k, t_max)` tests the primitive in slot `k` of `prims` (callers keep
+    /// Closest hit: opens a node, goes on to the nearest child the ray enters and pushes the
+    /// others farthest first, so the nearest of them comes off the stack next, and skips any
+    /// child whose box starts beyond the best t so far. `test(k, t_max)` tests the primitive in slot `k` of `prims` (callers keep
     /// their data in that order) and returns its t and data if it is hit within t_max.
     /// `visited` counts the nodes opened (for the cost map and explain).
     #[inline]
@@ -405,14 +405,14 @@ impl Bvh {
         }
         let mut best = None;
         let mut stack = ArrayVec::<Pending, STACK>::new();
-        push_sorted(&mut stack, root, mask, &near);
-        // The child to visit next when a node had just one: it skips the stack.
-        let mut only: Option<Pending> = None;
+        // The nearest child the ray enters is opened next without going through the stack;
+        // only its siblings wait there.
+        let mut next = Some(nearest_pushing_rest(&mut stack, root, mask, &near));
         while let Some(Pending {
             t_enter,
             child,
             count,
-        }) = only.take().or_else(|| stack.pop())
+        }) = next.take().or_else(|| stack.pop())
         {
             if t_enter as f64 > t_max {
                 continue; // a closer hit was found since this child was pushed
@@ -422,15 +422,8 @@ impl Bvh {
                 *visited += 1;
                 let node = &self.nodes[child];
                 let (mask, near) = node.enter(&r, t_min32, t_max32);
-                if mask.is_power_of_two() {
-                    let lane = mask.trailing_zeros() as usize;
-                    only = Some(Pending {
-                        t_enter: near[lane],
-                        child: node.child[lane],
-                        count: node.count[lane],
-                    });
-                } else {
-                    push_sorted(&mut stack, node, mask, &near);
+                if mask != 0 {
+                    next = Some(nearest_pushing_rest(&mut stack, node, mask, &near));
                 }
             } else {
                 for k in child..child + count as usize {
@@ -519,30 +512,45 @@ struct Pending {
     count: u32,
 }
 
-/// Pushes the lanes of `node` set in `mask` so that the one with the smallest entry t ends
-/// on top (equal entries in lane order, so the walk is deterministic).
+/// The entered child (lane of `node` set in `mask`) with the smallest entry t, returned to be
+/// opened next; the others are pushed so that the nearer ones come off the stack first
+/// (equal entries: the later lane first, so the walk is deterministic).
 #[inline(always)]
-fn push_sorted(
+fn nearest_pushing_rest(
     stack: &mut ArrayVec<Pending, STACK>,
     node: &Node,
-    mut mask: u32,
+    mask: u32,
     near: &[f32; WIDTH],
-) {
-    let mut sorted = [Pending {
-        t_enter: 0.0,
-        child: 0,
-        count: 0,
-    }; WIDTH];
-    let mut n = 0;
-    while mask != 0 {
-        let lane = mask.trailing_zeros() as usize;
-        mask &= mask - 1;
-        let item = Pending {
-            t_enter: near[lane],
-            child: node.child[lane],
-            count: node.count[lane],
+) -> Pending {
+    let lane = |i: u32| Pending {
+        t_enter: near[i as usize],
+        child: node.child[i as usize],
+        count: node.count[i as usize],
+    };
+    let a = mask.trailing_zeros();
+    let rest = mask & (mask - 1);
+    if rest == 0 {
+        return lane(a);
+    }
+    if rest & (rest - 1) == 0 {
+        // Two children, the most common case after one: no sort.
+        let (a, b) = (lane(a), lane(rest.trailing_zeros()));
+        return if a.t_enter < b.t_enter {
+            stack.push(b);
+            a
+        } else {
+            stack.push(a);
+            b
         };
-        // Insertion into sorted[..n], farthest first (never NaN: NaN lanes are not in mask).
+    }
+    // Three or four: insertion into sorted[..n], farthest first (never NaN: NaN lanes are
+    // not in mask).
+    let mut sorted = [lane(a); WIDTH];
+    let mut n = 1;
+    let mut mask = rest;
+    while mask != 0 {
+        let item = lane(mask.trailing_zeros());
+        mask &= mask - 1;
         let mut i = n;
         while i > 0 && sorted[i - 1].t_enter < item.t_enter {
             sorted[i] = sorted[i - 1];
@@ -551,9 +559,10 @@ fn push_sorted(
         sorted[i] = item;
         n += 1;
     }
-    for &item in &sorted[..n] {
+    for &item in &sorted[..n - 1] {
         stack.push(item);
     }
+    sorted[n - 1]
 }
 
 // ANCHOR: collapse
