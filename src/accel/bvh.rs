@@ -383,8 +383,9 @@ impl Bvh {
     // ANCHOR: closest
     /// Closest hit: opens a node, goes on to the nearest child the ray enters and pushes the
     /// others farthest first, so the nearest of them comes off the stack next, and skips any
-    /// child whose box starts beyond the best t so far. `test(k, t_max)` tests the primitive in slot `k` of `prims` (callers keep
-    /// their data in that order) and returns its t and data if it is hit within t_max.
+    /// child whose box starts beyond the best t so far. `test(k, t_max)` tests the primitive
+    /// in slot `k` of `prims` (callers keep their data in that order) and returns its t and
+    /// data if it is hit within t_max.
     /// `visited` counts the nodes opened (for the cost map and explain).
     #[inline]
     pub fn closest<T>(
