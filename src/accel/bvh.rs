@@ -33,6 +33,8 @@ const STACK: usize = (WIDTH - 1) * MAX_DEPTH + WIDTH;
 const TRAVERSAL_COST: f32 = 1.0;
 /// Subtrees with more primitives than this are built in parallel.
 const PARALLEL_MIN: usize = 8192;
+/// The collapse into wide nodes shares the tree among threads in this many subtrees.
+const COLLAPSE_SUBTREES: usize = 64;
 
 /// One node of the binary tree the SAH builder makes: an f32 box and either two children
 /// (`count == 0`: children at `first` and `first + 1`) or a run of `count` primitives
@@ -47,6 +49,14 @@ struct BinNode {
 }
 
 impl BinNode {
+    /// A slot of the builder's array no node took.
+    const UNUSED: BinNode = BinNode {
+        min: [0.0; 3],
+        first: 0,
+        max: [0.0; 3],
+        count: 0,
+    };
+
     fn is_leaf(&self) -> bool {
         self.count > 0
     }
@@ -356,11 +366,20 @@ impl Bvh {
     /// a binary tree by the binned SAH, then collapsed into four-wide nodes (`collapse`).
     /// Deterministic: the same boxes give the same tree on any number of threads.
     pub fn build(boxes: &[Aabb]) -> Bvh {
-        if boxes.is_empty() {
+        Bvh::build_with(boxes.len(), |i| boxes[i])
+    }
+
+    /// [`Bvh::build`] over `n` primitives whose boxes `box_of(i)` gives, so a caller that
+    /// computes them (a mesh's faces) need not store them all in f64 first.
+    pub fn build_with(n: usize, box_of: impl Fn(usize) -> Aabb + Sync) -> Bvh {
+        if n == 0 {
             return Bvh::default();
         }
         use rayon::prelude::*;
-        let boxes: Vec<FBox> = boxes.par_iter().map(FBox::from_f64).collect();
+        let boxes: Vec<FBox> = (0..n)
+            .into_par_iter()
+            .map(|i| FBox::from_f64(&box_of(i)))
+            .collect();
         let centroids: Vec<Vec3A> = boxes.par_iter().map(|b| (b.min + b.max) * 0.5).collect();
         let input = Input { boxes, centroids };
         let mut prims: Vec<u32> = (0..input.boxes.len() as u32).collect();
@@ -372,7 +391,11 @@ impl Bvh {
             centroid_bounds,
             depth: 0,
         };
-        let binary = subtree(&input, &mut prims, range);
+        // A binary tree over n primitives has at most 2n − 1 nodes. Each subtree gets its own
+        // slice of that array (2m − 1 slots for m primitives), so threads write in place.
+        let mut binary = vec![BinNode::UNUSED; 2 * prims.len() - 1];
+        let (root, rest) = binary.split_at_mut(1);
+        subtree(&input, &mut prims, range, &mut root[0], rest, 1);
         Bvh {
             nodes: collapse(&binary),
             prims,
@@ -566,59 +589,106 @@ fn nearest_pushing_rest(
     sorted[n - 1]
 }
 
-// ANCHOR: collapse
 /// Turns the binary tree into four-wide nodes: each wide node takes a binary node's two
 /// children, then keeps replacing the inner child with the largest surface by its own two
 /// children until it holds four (or only leaves are left). Halves the depth, so a ray opens
 /// about half as many nodes and tests four boxes with each.
 fn collapse(binary: &[BinNode]) -> Vec<Node> {
-    let mut nodes = Vec::with_capacity(binary.len() / 2 + 1);
+    let mut nodes = Vec::with_capacity(binary.len() / 4 + 1);
     nodes.push(Node::EMPTY);
-    let mut todo = vec![(0usize, 0usize)]; // (binary node, wide node it fills)
-    while let Some((b, w)) = todo.pop() {
-        let root = &binary[b];
-        let mut kids = ArrayVec::<usize, WIDTH>::new();
-        if root.is_leaf() {
-            kids.push(b); // a one-leaf tree: the root node holds just that leaf
-        } else {
-            kids.extend([root.first as usize, root.first as usize + 1]);
-        }
-        while kids.len() < WIDTH {
-            let widest = kids
-                .iter()
-                .enumerate()
-                .filter(|(_, &k)| !binary[k].is_leaf())
-                .max_by(|(i, &a), (j, &b)| {
-                    binary[a]
-                        .half_area()
-                        .total_cmp(&binary[b].half_area())
-                        .then(j.cmp(i)) // ties: the leftmost
-                })
-                .map(|(i, _)| i);
-            let Some(i) = widest else { break };
-            let first = binary[kids[i]].first as usize;
-            kids[i] = first;
-            kids.insert(i + 1, first + 1);
-        }
-        let mut node = Node::EMPTY;
-        for (lane, &k) in kids.iter().enumerate() {
-            let bn = &binary[k];
-            for axis in 0..3 {
-                node.planes[0][axis][lane] = bn.min[axis];
-                node.planes[1][axis][lane] = bn.max[axis];
+    // The top of the tree breadth first, until there are subtrees enough to share among the
+    // threads; each is then collapsed on its own and appended in this order (so the layout
+    // does not depend on the number of threads).
+    let mut frontier = std::collections::VecDeque::from([(0usize, 0usize)]);
+    while frontier.len() < COLLAPSE_SUBTREES {
+        let Some((b, w)) = frontier.pop_front() else {
+            break;
+        };
+        nodes[w] = wide_node(binary, b, &mut nodes, &mut frontier);
+    }
+    let frontier = Vec::from(frontier);
+    use rayon::prelude::*;
+    let parts: Vec<Vec<Node>> = frontier
+        .par_iter()
+        .map(|&(b, _)| {
+            let mut part = vec![Node::EMPTY];
+            let mut todo = vec![(b, 0)];
+            while let Some((b, w)) = todo.pop() {
+                part[w] = wide_node(binary, b, &mut part, &mut todo);
             }
-            node.count[lane] = bn.count;
-            node.child[lane] = if bn.is_leaf() {
-                bn.first
-            } else {
-                nodes.push(Node::EMPTY);
-                todo.push((k, nodes.len() - 1));
-                (nodes.len() - 1) as u32
-            };
-        }
-        nodes[w] = node;
+            part
+        })
+        .collect();
+    for (&(_, w), part) in frontier.iter().zip(&parts) {
+        // The part's node j ≥ 1 lands at shift + j; its root replaces the placeholder at w.
+        let shift = (nodes.len() - 1) as u32;
+        let fix = |n: &Node| {
+            let mut n = *n;
+            for lane in 0..WIDTH {
+                if n.count[lane] == 0 && !n.is_empty(lane) {
+                    n.child[lane] += shift;
+                }
+            }
+            n
+        };
+        nodes[w] = fix(&part[0]);
+        nodes.extend(part[1..].iter().map(fix));
     }
     nodes
+}
+
+// ANCHOR: collapse
+/// The wide node for binary node `b`: its two children, then the inner child with the
+/// largest surface replaced by its own two children until there are four (or only leaves).
+/// Inner lanes get a placeholder appended to `nodes`, and (binary node, its index) goes to
+/// `pending` to be filled in later.
+fn wide_node(
+    binary: &[BinNode],
+    b: usize,
+    nodes: &mut Vec<Node>,
+    pending: &mut impl Extend<(usize, usize)>,
+) -> Node {
+    let root = &binary[b];
+    let mut kids = ArrayVec::<usize, WIDTH>::new();
+    if root.is_leaf() {
+        kids.push(b); // a one-leaf tree: the root node holds just that leaf
+    } else {
+        kids.extend([root.first as usize, root.first as usize + 1]);
+    }
+    while kids.len() < WIDTH {
+        let widest = kids
+            .iter()
+            .enumerate()
+            .filter(|(_, &k)| !binary[k].is_leaf())
+            .max_by(|(i, &a), (j, &b)| {
+                binary[a]
+                    .half_area()
+                    .total_cmp(&binary[b].half_area())
+                    .then(j.cmp(i)) // ties: the leftmost
+            })
+            .map(|(i, _)| i);
+        let Some(i) = widest else { break };
+        let first = binary[kids[i]].first as usize;
+        kids[i] = first;
+        kids.insert(i + 1, first + 1);
+    }
+    let mut node = Node::EMPTY;
+    for (lane, &k) in kids.iter().enumerate() {
+        let bn = &binary[k];
+        for axis in 0..3 {
+            node.planes[0][axis][lane] = bn.min[axis];
+            node.planes[1][axis][lane] = bn.max[axis];
+        }
+        node.count[lane] = bn.count;
+        node.child[lane] = if bn.is_leaf() {
+            bn.first
+        } else {
+            nodes.push(Node::EMPTY);
+            pending.extend([(k, nodes.len() - 1)]);
+            (nodes.len() - 1) as u32
+        };
+    }
+    node
 }
 // ANCHOR_END: collapse
 
@@ -631,77 +701,84 @@ fn bounds_of(input: &Input, prims: &[u32]) -> (FBox, FBox) {
     })
 }
 
-/// Builds the subtree over `prims[range]` (`prims` here is exactly that range) and returns
-/// its nodes with its root at index 0 and child indices local to the returned vector.
-/// Large subtrees split once here and build their two halves in parallel.
-fn subtree(input: &Input, prims: &mut [u32], range: Range) -> Vec<BinNode> {
+/// Builds the subtree over `prims` (exactly the range's primitives): its root into `root`,
+/// the rest of its nodes into `rest`, whose 2m − 2 slots for m primitives start at index
+/// `offset` of the whole array. Large subtrees split once here: the two child roots go side
+/// by side at the front of `rest`, and each half builds, in parallel, into its own share of
+/// the remaining slots. Leaves' `first` is an index into `prims`, inner nodes' into the array.
+fn subtree(
+    input: &Input,
+    prims: &mut [u32],
+    range: Range,
+    root: &mut BinNode,
+    rest: &mut [BinNode],
+    offset: usize,
+) {
     let n = range.end - range.start;
     if n < PARALLEL_MIN {
-        return sequential(input, prims, range);
+        return sequential(input, prims, range, root, rest, offset);
     }
     let Some((mid, left, right)) = split(input, prims, range) else {
-        return vec![range.bounds.node(range.start as u32, n as u32)];
+        *root = range.bounds.node(range.start as u32, n as u32);
+        return;
     };
-    let (lp, rp) = prims.split_at_mut(mid - range.start);
-    let (a, b) = rayon::join(|| subtree(input, lp, left), || subtree(input, rp, right));
-    // Layout: root, the two child roots side by side, then the rest of each subtree.
-    let mut nodes = Vec::with_capacity(1 + a.len() + b.len());
-    nodes.push(range.bounds.node(1, 0));
-    let shift_a = 2usize; // local index j >= 1 of `a` lands at j + 2
-    let shift_b = 1 + a.len(); // local index j >= 1 of `b` lands at j + a.len() + 1
-    let fix = |n: &BinNode, shift: usize| -> BinNode {
-        let mut n = *n;
-        if !n.is_leaf() {
-            n.first += shift as u32;
-        }
-        n
-    };
-    nodes.push(fix(&a[0], shift_a));
-    nodes.push(fix(&b[0], shift_b));
-    nodes.extend(a[1..].iter().map(|n| fix(n, shift_a)));
-    nodes.extend(b[1..].iter().map(|n| fix(n, shift_b)));
-    nodes
+    *root = range.bounds.node(offset as u32, 0);
+    let (pair, rest) = rest.split_at_mut(2);
+    let (left_root, right_root) = pair.split_at_mut(1);
+    let n_left = mid - range.start;
+    let (left_rest, right_rest) = rest.split_at_mut(2 * n_left - 2);
+    let right_offset = offset + 2 + left_rest.len();
+    let (lp, rp) = prims.split_at_mut(n_left);
+    rayon::join(
+        || subtree(input, lp, left, &mut left_root[0], left_rest, offset + 2),
+        || {
+            subtree(
+                input,
+                rp,
+                right,
+                &mut right_root[0],
+                right_rest,
+                right_offset,
+            )
+        },
+    );
 }
 
-/// The same build without threads: an explicit stack, children appended in pairs.
-/// `prims` is the subtree's range; node `first` fields for leaves are global (range.start
-/// based), for inner nodes local to the returned vector.
-fn sequential(input: &Input, prims: &mut [u32], range: Range) -> Vec<BinNode> {
+/// The same build without threads: an explicit stack, children written in pairs at the
+/// front of the free slots of `rest`.
+fn sequential(
+    input: &Input,
+    prims: &mut [u32],
+    range: Range,
+    root: &mut BinNode,
+    rest: &mut [BinNode],
+    offset: usize,
+) {
     let base = range.start;
-    // A binary tree over n primitives has at most 2n − 1 nodes: reserve once.
-    let mut nodes = Vec::with_capacity(2 * (range.end - range.start));
-    nodes.push(range.bounds.node(0, 0));
-    let mut stack = vec![(0usize, range)];
-    while let Some((index, r)) = stack.pop() {
+    let mut used = 0;
+    // Each entry: the slot its node goes to (None: `root`, Some(i): `rest[i]`) and its range.
+    let mut stack = vec![(None, range)];
+    while let Some((slot, r)) = stack.pop() {
         let slice = &mut prims[r.start - base..r.end - base];
-        match split(input, slice, rebase(r, r.start)) {
-            None => {
-                nodes[index] = r.bounds.node(r.start as u32, (r.end - r.start) as u32);
+        let node = match split(input, slice, rebase(r, r.start)) {
+            None => r.bounds.node(r.start as u32, (r.end - r.start) as u32),
+            Some((_, left, right)) => {
+                let global = |c: Range| Range {
+                    start: c.start + r.start,
+                    end: c.end + r.start,
+                    ..c
+                };
+                stack.push((Some(used + 1), global(right)));
+                stack.push((Some(used), global(left)));
+                used += 2;
+                r.bounds.node((offset + used - 2) as u32, 0)
             }
-            Some((mid, left, right)) => {
-                let first = nodes.len();
-                nodes[index] = r.bounds.node(first as u32, 0);
-                nodes.push(left.bounds.node(0, 0));
-                nodes.push(right.bounds.node(0, 0));
-                let (left, right) = (
-                    Range {
-                        start: left.start + r.start,
-                        end: left.end + r.start,
-                        ..left
-                    },
-                    Range {
-                        start: right.start + r.start,
-                        end: right.end + r.start,
-                        ..right
-                    },
-                );
-                let _ = mid;
-                stack.push((first + 1, right));
-                stack.push((first, left));
-            }
+        };
+        match slot {
+            None => *root = node,
+            Some(i) => rest[i] = node,
         }
     }
-    nodes
 }
 
 /// The range shifted so that it starts at `start - offset` (slices are local).
@@ -758,9 +835,10 @@ fn split_binned<const B: usize>(
     let bin = |c: Vec3A| ((c - cb.min) * scale).as_uvec3().min(last);
     // One pass bins every primitive on all three axes (in parallel chunks for big nodes;
     // unions and counts do not depend on the order, so the tree does not either).
-    let binned = |chunk: &[u32]| {
-        let mut bin_box = [[FBox::EMPTY; B]; 3];
-        let mut bin_n = [[0u32; B]; 3];
+    // The arrays are filled in place: returning them by value copied them for every node.
+    let mut bin_box = [[FBox::EMPTY; B]; 3];
+    let mut bin_n = [[0u32; B]; 3];
+    let binned = |chunk: &[u32], bin_box: &mut [[FBox; B]; 3], bin_n: &mut [[u32; B]; 3]| {
         for &p in chunk {
             let (b, c) = (input.boxes[p as usize], input.centroids[p as usize]);
             let i = bin(c);
@@ -770,28 +848,33 @@ fn split_binned<const B: usize>(
                 bin_n[axis][i] += 1;
             }
         }
-        (bin_box, bin_n)
     };
-    let (bin_box, bin_n) = if n >= PARALLEL_MIN * 4 {
+    if n >= PARALLEL_MIN * 4 {
         use rayon::prelude::*;
-        prims.par_chunks(PARALLEL_MIN).map(binned).reduce(
-            || ([[FBox::EMPTY; B]; 3], [[0u32; B]; 3]),
-            |(mut ab, mut an), (bb, bn)| {
-                for axis in 0..3 {
-                    for i in 0..B {
-                        ab[axis][i] = ab[axis][i].union(bb[axis][i]);
-                        an[axis][i] += bn[axis][i];
+        (bin_box, bin_n) = prims
+            .par_chunks(PARALLEL_MIN)
+            .map(|chunk| {
+                let (mut bb, mut bn) = ([[FBox::EMPTY; B]; 3], [[0u32; B]; 3]);
+                binned(chunk, &mut bb, &mut bn);
+                (bb, bn)
+            })
+            .reduce(
+                || ([[FBox::EMPTY; B]; 3], [[0u32; B]; 3]),
+                |(mut ab, mut an), (bb, bn)| {
+                    for axis in 0..3 {
+                        for i in 0..B {
+                            ab[axis][i] = ab[axis][i].union(bb[axis][i]);
+                            an[axis][i] += bn[axis][i];
+                        }
                     }
-                }
-                (ab, an)
-            },
-        )
+                    (ab, an)
+                },
+            );
     } else {
-        binned(prims)
-    };
-    let mut best: Option<(f32, usize, usize)> = None; // cost, axis, first bin on the right
-                                                      // The union of bins i.. on each axis: the right child's box for a split before bin i.
-    let mut right_box = [[FBox::EMPTY; B]; 3];
+        binned(prims, &mut bin_box, &mut bin_n);
+    }
+    // The cheapest plane: (cost, axis, first bin on the right).
+    let mut best: Option<(f32, usize, usize)> = None;
     for axis in 0..3 {
         if scale[axis] == 0.0 {
             continue;
@@ -803,7 +886,6 @@ fn split_binned<const B: usize>(
             acc = acc.union(bin_box[axis][i]);
             count += bin_n[axis][i];
             right_cost[i] = acc.half_area() * count as f32;
-            right_box[axis][i] = acc;
         }
         let (mut acc, mut count) = (FBox::EMPTY, 0u32);
         for i in 0..bins - 1 {
@@ -827,10 +909,9 @@ fn split_binned<const B: usize>(
             }
             // The children's boxes are the unions of their bins; only the centroid boxes
             // need another pass, made while partitioning.
-            let lb = bin_box[axis][..boundary]
-                .iter()
-                .fold(FBox::EMPTY, |a, b| a.union(*b));
-            let rb = right_box[axis][boundary];
+            let union = |bins: &[FBox]| bins.iter().fold(FBox::EMPTY, |a, b| a.union(*b));
+            let lb = union(&bin_box[axis][..boundary]);
+            let rb = union(&bin_box[axis][boundary..bins]);
             let (mut lc, mut rc) = (FBox::EMPTY, FBox::EMPTY);
             let mid = partition(prims, |p| {
                 let c = input.centroids[p as usize];

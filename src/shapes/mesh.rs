@@ -84,12 +84,7 @@ impl Mesh {
     pub fn build_bvh(positions: &[DVec3], faces: &[[u32; 3]]) -> (Bvh, Vec<PackedFace>) {
         use rayon::prelude::*;
         let corners = |f: &[u32; 3]| f.map(|i| positions[i as usize]);
-        let boxes: Vec<Aabb> = faces
-            .par_iter()
-            .map(|f| Aabb::around(&corners(f)))
-            .collect();
-        let bvh = Bvh::build(&boxes);
-        drop(boxes);
+        let bvh = Bvh::build_with(faces.len(), |i| Aabb::around(&corners(&faces[i])));
         let packed = bvh
             .prims
             .par_iter()
