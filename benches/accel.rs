@@ -279,79 +279,79 @@ struct CameraPass {
     t: Vec<f64>,
 }
 
-fn camera_pass(scene: &Scene, cam: &HarnessCamera, pool: &rayon::ThreadPool) -> CameraPass {
-    let start = Instant::now();
-    let rows: Vec<(u64, f64, Vec<f64>)> = pool.install(|| {
-        (0..H)
-            .into_par_iter()
-            .map(|y| {
-                let (mut hits, mut sum) = (0u64, 0.0f64);
-                let mut ts = Vec::with_capacity(W);
-                let mut rec = NoRecorder::default();
-                for x in 0..W {
-                    let ray = cam.ray(x, y);
-                    let hit =
-                        scene
-                            .accel
-                            .closest(&scene.objects, &ray, 0.0, f64::INFINITY, &mut rec);
-                    match hit {
-                        Some((_, h)) => {
-                            hits += 1;
-                            sum += h.t;
-                            ts.push(h.t);
-                        }
-                        None => ts.push(-1.0),
-                    }
-                }
-                (hits, sum, ts)
+/// Runs `f` on every pixel the way `rtlab render` hands pixels to threads (its 16×16 tiles,
+/// `rtlab::sampling::tiles`, in parallel) and returns the results tile by tile, each in the
+/// tile's row-major order.
+fn per_tile<T: Send>(
+    pool: &rayon::ThreadPool,
+    f: impl Fn(usize, usize) -> T + Sync,
+) -> Vec<Vec<T>> {
+    let tiles = rtlab::sampling::tiles(W as u32, H as u32);
+    pool.install(|| {
+        tiles
+            .par_iter()
+            .map(|tile| {
+                tile.pixels()
+                    .map(|(x, y)| f(x as usize, y as usize))
+                    .collect()
             })
             .collect()
+    })
+}
+
+/// Per-tile results back in row-major order (after the timing: the renderer does the same
+/// when it gathers samples for the filter).
+fn row_major<T: Copy>(per_tile: &[Vec<T>]) -> Vec<T> {
+    let tiles = rtlab::sampling::tiles(W as u32, H as u32);
+    let across = W.div_ceil(rtlab::sampling::TILE as usize);
+    let tile = rtlab::sampling::TILE as usize;
+    (0..H)
+        .flat_map(|y| (0..W).map(move |x| (x, y)))
+        .map(|(x, y)| {
+            let t = (y / tile) * across + x / tile;
+            let r = &tiles[t];
+            let local = (y - r.y.start as usize) * r.x.len() + (x - r.x.start as usize);
+            per_tile[t][local]
+        })
+        .collect()
+}
+
+/// The camera rays through the scene (top-level BVH, then the mesh's): t per pixel (−1 for
+/// a miss), hits and Σt (summed in row-major order).
+fn camera_pass(scene: &Scene, cam: &HarnessCamera, pool: &rayon::ThreadPool) -> CameraPass {
+    let start = Instant::now();
+    let traced = per_tile(pool, |x, y| {
+        let mut rec = NoRecorder::default();
+        let hit = scene
+            .accel
+            .closest(&scene.objects, &cam.ray(x, y), 0.0, f64::INFINITY, &mut rec);
+        hit.map_or(-1.0, |(_, h)| h.t)
     });
     let seconds = start.elapsed().as_secs_f64();
-    let mut pass = CameraPass {
+    let t = row_major(&traced);
+    CameraPass {
         seconds,
-        hits: 0,
-        sum_t: 0.0,
-        t: Vec::with_capacity(W * H),
-    };
-    for (h, s, ts) in rows {
-        pass.hits += h;
-        pass.sum_t += s;
-        pass.t.extend(ts);
+        hits: t.iter().filter(|&&t| t >= 0.0).count() as u64,
+        sum_t: t.iter().filter(|&&t| t >= 0.0).sum(),
+        t,
     }
-    pass
 }
 
 /// The same camera rays straight into the mesh's own BVH, skipping the scene level, with the
-/// same bookkeeping as [`camera_pass`] (t per pixel, hits, Σt): the price of the two-level
-/// design is the difference.
+/// same bookkeeping as [`camera_pass`] (t per pixel): the price of the two-level design is
+/// the difference.
 fn mesh_only_seconds(scene: &Scene, cam: &HarnessCamera, pool: &rayon::ThreadPool) -> f64 {
     let Shape::Mesh(mesh) = &scene.objects[0].shape else {
         unreachable!()
     };
     let start = Instant::now();
-    let rows: Vec<(u64, f64, Vec<f64>)> = pool.install(|| {
-        (0..H)
-            .into_par_iter()
-            .map(|y| {
-                let (mut hits, mut sum) = (0u64, 0.0f64);
-                let mut ts = Vec::with_capacity(W);
-                for x in 0..W {
-                    match mesh.intersect(&cam.ray(x, y), 0.0, f64::INFINITY, &mut NoObserver) {
-                        Some(h) => {
-                            hits += 1;
-                            sum += h.t;
-                            ts.push(h.t);
-                        }
-                        None => ts.push(-1.0),
-                    }
-                }
-                (hits, sum, ts)
-            })
-            .collect()
+    let traced = per_tile(pool, |x, y| {
+        mesh.intersect(&cam.ray(x, y), 0.0, f64::INFINITY, &mut NoObserver)
+            .map_or(-1.0, |h| h.t)
     });
-    std::hint::black_box(rows);
-    start.elapsed().as_secs_f64()
+    let seconds = start.elapsed().as_secs_f64();
+    std::hint::black_box(traced);
+    seconds
 }
 
 /// One shadow ray per camera hit, towards the harness's light, from t_min = 1e-4·R as the
@@ -369,32 +369,28 @@ fn shadow_pass(
     );
     let eps = 1e-4 * cam.radius as f64;
     let start = Instant::now();
-    let (rays, occluded) = pool.install(|| {
-        (0..H)
-            .into_par_iter()
-            .map(|y| {
-                let (mut n, mut occ) = (0u64, 0u64);
-                let mut rec = NoRecorder::default();
-                for x in 0..W {
-                    let t = camera.t[y * W + x];
-                    if t < 0.0 {
-                        continue;
-                    }
-                    let p = cam.ray(x, y).at(t);
-                    let to_light = light - p;
-                    let dist = to_light.length();
-                    let ray = Ray::new(p, to_light / dist);
-                    n += 1;
-                    occ += scene
-                        .accel
-                        .occluded(&scene.objects, &ray, eps, dist, &mut rec)
-                        .is_some() as u64;
-                }
-                (n, occ)
-            })
-            .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
+    let traced = per_tile(pool, |x, y| {
+        let t = camera.t[y * W + x];
+        if t < 0.0 {
+            return (0u64, 0u64);
+        }
+        let p = cam.ray(x, y).at(t);
+        let to_light = light - p;
+        let dist = to_light.length();
+        let ray = Ray::new(p, to_light / dist);
+        let mut rec = NoRecorder::default();
+        let occluded = scene
+            .accel
+            .occluded(&scene.objects, &ray, eps, dist, &mut rec)
+            .is_some();
+        (1, occluded as u64)
     });
-    (start.elapsed().as_secs_f64(), rays, occluded)
+    let seconds = start.elapsed().as_secs_f64();
+    let (rays, occluded) = traced
+        .iter()
+        .flatten()
+        .fold((0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
+    (seconds, rays, occluded)
 }
 
 fn build_seconds(scene: &Scene, pool: &rayon::ThreadPool) -> f64 {

@@ -396,6 +396,7 @@ impl Bvh {
         let mut binary = vec![BinNode::UNUSED; 2 * prims.len() - 1];
         let (root, rest) = binary.split_at_mut(1);
         subtree(&input, &mut prims, range, &mut root[0], rest, 1);
+        drop(input); // the boxes are in the nodes now: free them before the collapse
         Bvh {
             nodes: collapse(&binary),
             prims,
@@ -619,7 +620,7 @@ fn collapse(binary: &[BinNode]) -> Vec<Node> {
             part
         })
         .collect();
-    for (&(_, w), part) in frontier.iter().zip(&parts) {
+    for (&(_, w), part) in frontier.iter().zip(parts) {
         // The part's node j ≥ 1 lands at shift + j; its root replaces the placeholder at w.
         let shift = (nodes.len() - 1) as u32;
         let fix = |n: &Node| {

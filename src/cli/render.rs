@@ -107,10 +107,11 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
     };
 
     let bar = (!args.quiet && std::io::stderr().is_terminal()).then(|| {
-        let bar = indicatif::ProgressBar::new(scene.camera.height as u64);
+        let pixels = scene.camera.width as u64 * scene.camera.height as u64;
+        let bar = indicatif::ProgressBar::new(pixels);
         bar.set_style(
             indicatif::ProgressStyle::with_template(
-                "{spinner} rendering [{bar:40}] {pos}/{len} rows {elapsed} (eta {eta})",
+                "{spinner} rendering [{bar:40}] {percent}% of the pixels {elapsed} (eta {eta})",
             )
             .expect("valid template")
             .progress_chars("=> "),
