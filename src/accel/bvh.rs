@@ -383,7 +383,13 @@ impl Bvh {
         let centroids: Vec<Vec3A> = boxes.par_iter().map(|b| (b.min + b.max) * 0.5).collect();
         let input = Input { boxes, centroids };
         let mut prims: Vec<u32> = (0..input.boxes.len() as u32).collect();
-        let (bounds, centroid_bounds) = bounds_of(&input, &prims);
+        let (bounds, centroid_bounds) = prims
+            .par_chunks(PARALLEL_MIN)
+            .map(|chunk| bounds_of(&input, chunk))
+            .reduce(
+                || (FBox::EMPTY, FBox::EMPTY),
+                |a, b| (a.0.union(b.0), a.1.union(b.1)),
+            );
         let range = Range {
             start: 0,
             end: prims.len(),
@@ -393,7 +399,8 @@ impl Bvh {
         };
         // A binary tree over n primitives has at most 2n − 1 nodes. Each subtree gets its own
         // slice of that array (2m − 1 slots for m primitives), so threads write in place.
-        let mut binary = vec![BinNode::UNUSED; 2 * prims.len() - 1];
+        let mut binary = Vec::with_capacity(2 * prims.len() - 1);
+        binary.par_extend(rayon::iter::repeat_n(BinNode::UNUSED, 2 * prims.len() - 1));
         let (root, rest) = binary.split_at_mut(1);
         subtree(&input, &mut prims, range, &mut root[0], rest, 1);
         drop(input); // the boxes are in the nodes now: free them before the collapse
@@ -620,21 +627,43 @@ fn collapse(binary: &[BinNode]) -> Vec<Node> {
             part
         })
         .collect();
-    for (&(_, w), part) in frontier.iter().zip(parts) {
-        // The part's node j ≥ 1 lands at shift + j; its root replaces the placeholder at w.
-        let shift = (nodes.len() - 1) as u32;
-        let fix = |n: &Node| {
-            let mut n = *n;
-            for lane in 0..WIDTH {
-                if n.count[lane] == 0 && !n.is_empty(lane) {
-                    n.child[lane] += shift;
-                }
-            }
-            n
-        };
-        nodes[w] = fix(&part[0]);
-        nodes.extend(part[1..].iter().map(fix));
+    // Part i's node j ≥ 1 lands at shift_i + j; its root replaces the placeholder at w.
+    let mut shifts = Vec::with_capacity(parts.len());
+    let mut end = nodes.len();
+    for part in &parts {
+        shifts.push((end - 1) as u32);
+        end += part.len() - 1;
     }
+    let fix = |n: &Node, shift: u32| {
+        let mut n = *n;
+        for lane in 0..WIDTH {
+            if n.count[lane] == 0 && !n.is_empty(lane) {
+                n.child[lane] += shift;
+            }
+        }
+        n
+    };
+    for ((&(_, w), part), &shift) in frontier.iter().zip(&parts).zip(&shifts) {
+        nodes[w] = fix(&part[0], shift);
+    }
+    // The rest is copied in parallel, each part into its own stretch of the array.
+    let top = nodes.len();
+    nodes.par_extend(rayon::iter::repeat_n(Node::EMPTY, end - top));
+    let mut stretches = Vec::with_capacity(parts.len());
+    let mut free = &mut nodes[top..];
+    for part in &parts {
+        let (stretch, rest) = free.split_at_mut(part.len() - 1);
+        stretches.push(stretch);
+        free = rest;
+    }
+    stretches
+        .into_par_iter()
+        .zip(parts.into_par_iter().zip(shifts))
+        .for_each(|(stretch, (part, shift))| {
+            for (slot, n) in stretch.iter_mut().zip(&part[1..]) {
+                *slot = fix(n, shift);
+            }
+        });
     nodes
 }
 
