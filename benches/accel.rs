@@ -279,24 +279,25 @@ struct CameraPass {
     t: Vec<f64>,
 }
 
-/// Runs `f` on every pixel the way `rtlab render` hands pixels to threads (its 16×16 tiles,
-/// `rtlab::sampling::tiles`, in parallel) and returns the results tile by tile, each in the
-/// tile's row-major order.
+/// Runs `f` on every tile the way `rtlab render` hands pixels to threads (its 16×16 tiles,
+/// `rtlab::sampling::tiles`, in parallel) and returns its results in tile order.
 fn per_tile<T: Send>(
     pool: &rayon::ThreadPool,
-    f: impl Fn(usize, usize) -> T + Sync,
-) -> Vec<Vec<T>> {
+    f: impl Fn(&rtlab::sampling::Tile) -> T + Sync,
+) -> Vec<T> {
     let tiles = rtlab::sampling::tiles(W as u32, H as u32);
-    pool.install(|| {
-        tiles
-            .par_iter()
-            .map(|tile| {
-                tile.pixels()
-                    .map(|(x, y)| f(x as usize, y as usize))
-                    .collect()
-            })
-            .collect()
-    })
+    pool.install(|| tiles.par_iter().map(&f).collect())
+}
+
+/// One value per pixel of a tile, in the tile's row-major order.
+fn each_pixel<T>(tile: &rtlab::sampling::Tile, mut f: impl FnMut(usize, usize) -> T) -> Vec<T> {
+    let mut out = Vec::with_capacity(tile.len());
+    for y in tile.y.clone() {
+        for x in tile.x.clone() {
+            out.push(f(x as usize, y as usize));
+        }
+    }
+    out
 }
 
 /// Per-tile results back in row-major order (after the timing: the renderer does the same
@@ -320,12 +321,15 @@ fn row_major<T: Copy>(per_tile: &[Vec<T>]) -> Vec<T> {
 /// a miss), hits and Σt (summed in row-major order).
 fn camera_pass(scene: &Scene, cam: &HarnessCamera, pool: &rayon::ThreadPool) -> CameraPass {
     let start = Instant::now();
-    let traced = per_tile(pool, |x, y| {
+    let traced = per_tile(pool, |tile| {
         let mut rec = NoRecorder::default();
-        let hit = scene
-            .accel
-            .closest(&scene.objects, &cam.ray(x, y), 0.0, f64::INFINITY, &mut rec);
-        hit.map_or(-1.0, |(_, h)| h.t)
+        each_pixel(tile, |x, y| {
+            let ray = cam.ray(x, y);
+            let hit = scene
+                .accel
+                .closest(&scene.objects, &ray, 0.0, f64::INFINITY, &mut rec);
+            hit.map_or(-1.0, |(_, h)| h.t)
+        })
     });
     let seconds = start.elapsed().as_secs_f64();
     let t = row_major(&traced);
@@ -345,9 +349,11 @@ fn mesh_only_seconds(scene: &Scene, cam: &HarnessCamera, pool: &rayon::ThreadPoo
         unreachable!()
     };
     let start = Instant::now();
-    let traced = per_tile(pool, |x, y| {
-        mesh.intersect(&cam.ray(x, y), 0.0, f64::INFINITY, &mut NoObserver)
-            .map_or(-1.0, |h| h.t)
+    let traced = per_tile(pool, |tile| {
+        each_pixel(tile, |x, y| {
+            mesh.intersect(&cam.ray(x, y), 0.0, f64::INFINITY, &mut NoObserver)
+                .map_or(-1.0, |h| h.t)
+        })
     });
     let seconds = start.elapsed().as_secs_f64();
     std::hint::black_box(traced);
@@ -369,27 +375,29 @@ fn shadow_pass(
     );
     let eps = 1e-4 * cam.radius as f64;
     let start = Instant::now();
-    let traced = per_tile(pool, |x, y| {
-        let t = camera.t[y * W + x];
-        if t < 0.0 {
-            return (0u64, 0u64);
-        }
-        let p = cam.ray(x, y).at(t);
-        let to_light = light - p;
-        let dist = to_light.length();
-        let ray = Ray::new(p, to_light / dist);
+    let traced = per_tile(pool, |tile| {
+        let (mut rays, mut occluded) = (0u64, 0u64);
         let mut rec = NoRecorder::default();
-        let occluded = scene
-            .accel
-            .occluded(&scene.objects, &ray, eps, dist, &mut rec)
-            .is_some();
-        (1, occluded as u64)
+        for (x, y) in tile.pixels() {
+            let (x, y) = (x as usize, y as usize);
+            let t = camera.t[y * W + x];
+            if t < 0.0 {
+                continue;
+            }
+            let p = cam.ray(x, y).at(t);
+            let to_light = light - p;
+            let dist = to_light.length();
+            let ray = Ray::new(p, to_light / dist);
+            rays += 1;
+            occluded += scene
+                .accel
+                .occluded(&scene.objects, &ray, eps, dist, &mut rec)
+                .is_some() as u64;
+        }
+        (rays, occluded)
     });
     let seconds = start.elapsed().as_secs_f64();
-    let (rays, occluded) = traced
-        .iter()
-        .flatten()
-        .fold((0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
+    let (rays, occluded) = traced.iter().fold((0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
     (seconds, rays, occluded)
 }
 
