@@ -634,10 +634,12 @@ fn collapse(binary: &[BinNode]) -> Vec<Node> {
         shifts.push((end - 1) as u32);
         end += part.len() - 1;
     }
+    // Inner lanes are those with no primitives and a child other than 0 (the root is
+    // nobody's child; unused lanes point at 0), whatever their box.
     let fix = |n: &Node, shift: u32| {
         let mut n = *n;
         for lane in 0..WIDTH {
-            if n.count[lane] == 0 && !n.is_empty(lane) {
+            if n.count[lane] == 0 && n.child[lane] != 0 {
                 n.child[lane] += shift;
             }
         }
