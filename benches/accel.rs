@@ -303,17 +303,8 @@ fn each_pixel<T>(tile: &rtlab::sampling::Tile, mut f: impl FnMut(usize, usize) -
 /// Per-tile results back in row-major order (after the timing: the renderer does the same
 /// when it gathers samples for the filter).
 fn row_major<T: Copy>(per_tile: &[Vec<T>]) -> Vec<T> {
-    let tiles = rtlab::sampling::tiles(W as u32, H as u32);
-    let across = W.div_ceil(rtlab::sampling::TILE as usize);
-    let tile = rtlab::sampling::TILE as usize;
-    (0..H)
-        .flat_map(|y| (0..W).map(move |x| (x, y)))
-        .map(|(x, y)| {
-            let t = (y / tile) * across + x / tile;
-            let r = &tiles[t];
-            let local = (y - r.y.start as usize) * r.x.len() + (x - r.x.start as usize);
-            per_tile[t][local]
-        })
+    rtlab::sampling::row_major_order(W as u32, H as u32)
+        .map(|(t, l)| per_tile[t][l])
         .collect()
 }
 

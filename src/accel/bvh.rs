@@ -402,7 +402,12 @@ impl Bvh {
         let mut binary = Vec::with_capacity(2 * prims.len() - 1);
         binary.par_extend(rayon::iter::repeat_n(BinNode::UNUSED, 2 * prims.len() - 1));
         let (root, rest) = binary.split_at_mut(1);
-        subtree(&input, &mut prims, range, &mut root[0], rest, 1);
+        let slots = Slots {
+            root: &mut root[0],
+            rest,
+            offset: 1,
+        };
+        subtree(&input, &mut prims, range, slots);
         drop(input); // the boxes are in the nodes now: free them before the collapse
         Bvh {
             nodes: collapse(&binary),
@@ -733,59 +738,53 @@ fn bounds_of(input: &Input, prims: &[u32]) -> (FBox, FBox) {
     })
 }
 
-/// Builds the subtree over `prims` (exactly the range's primitives): its root into `root`,
-/// the rest of its nodes into `rest`, whose 2m − 2 slots for m primitives start at index
-/// `offset` of the whole array. Large subtrees split once here: the two child roots go side
-/// by side at the front of `rest`, and each half builds, in parallel, into its own share of
-/// the remaining slots. Leaves' `first` is an index into `prims`, inner nodes' into the array.
-fn subtree(
-    input: &Input,
-    prims: &mut [u32],
-    range: Range,
-    root: &mut BinNode,
-    rest: &mut [BinNode],
+/// Where a subtree's nodes go: its root into `root`, the rest into `rest`, whose 2m − 2
+/// slots for m primitives start at index `offset` of the whole array.
+struct Slots<'a> {
+    root: &'a mut BinNode,
+    rest: &'a mut [BinNode],
     offset: usize,
-) {
+}
+
+/// Builds the subtree over `prims` (exactly the range's primitives) into `slots`. Large
+/// subtrees split once here: the two child roots go side by side at the front of `rest`, and
+/// each half builds, in parallel, into its own share of the remaining slots. Leaves' `first`
+/// is an index into `prims`, inner nodes' into the array.
+fn subtree(input: &Input, prims: &mut [u32], range: Range, slots: Slots) {
     let n = range.end - range.start;
     if n < PARALLEL_MIN {
-        return sequential(input, prims, range, root, rest, offset);
+        return sequential(input, prims, range, slots);
     }
     let Some((mid, left, right)) = split(input, prims, range) else {
-        *root = range.bounds.node(range.start as u32, n as u32);
+        *slots.root = range.bounds.node(range.start as u32, n as u32);
         return;
     };
-    *root = range.bounds.node(offset as u32, 0);
-    let (pair, rest) = rest.split_at_mut(2);
+    let offset = slots.offset;
+    *slots.root = range.bounds.node(offset as u32, 0);
+    let (pair, rest) = slots.rest.split_at_mut(2);
     let (left_root, right_root) = pair.split_at_mut(1);
     let n_left = mid - range.start;
     let (left_rest, right_rest) = rest.split_at_mut(2 * n_left - 2);
-    let right_offset = offset + 2 + left_rest.len();
+    let left_slots = Slots {
+        root: &mut left_root[0],
+        offset: offset + 2,
+        rest: left_rest,
+    };
+    let right_slots = Slots {
+        root: &mut right_root[0],
+        offset: offset + 2 + left_slots.rest.len(),
+        rest: right_rest,
+    };
     let (lp, rp) = prims.split_at_mut(n_left);
     rayon::join(
-        || subtree(input, lp, left, &mut left_root[0], left_rest, offset + 2),
-        || {
-            subtree(
-                input,
-                rp,
-                right,
-                &mut right_root[0],
-                right_rest,
-                right_offset,
-            )
-        },
+        || subtree(input, lp, left, left_slots),
+        || subtree(input, rp, right, right_slots),
     );
 }
 
 /// The same build without threads: an explicit stack, children written in pairs at the
 /// front of the free slots of `rest`.
-fn sequential(
-    input: &Input,
-    prims: &mut [u32],
-    range: Range,
-    root: &mut BinNode,
-    rest: &mut [BinNode],
-    offset: usize,
-) {
+fn sequential(input: &Input, prims: &mut [u32], range: Range, slots: Slots) {
     let base = range.start;
     let mut used = 0;
     // Each entry: the slot its node goes to (None: `root`, Some(i): `rest[i]`) and its range.
@@ -803,12 +802,12 @@ fn sequential(
                 stack.push((Some(used + 1), global(right)));
                 stack.push((Some(used), global(left)));
                 used += 2;
-                r.bounds.node((offset + used - 2) as u32, 0)
+                r.bounds.node((slots.offset + used - 2) as u32, 0)
             }
         };
         match slot {
-            None => *root = node,
-            Some(i) => rest[i] = node,
+            None => *slots.root = node,
+            Some(i) => slots.rest[i] = node,
         }
     }
 }

@@ -119,6 +119,22 @@ pub fn tiles(width: u32, height: u32) -> Vec<Tile> {
         .collect()
 }
 
+/// Where each pixel's result sits among per-tile results (tile by tile, each in its tile's
+/// row-major order, as [`tiles`] lists them): for every pixel in row-major order, (tile,
+/// index within the tile).
+pub fn row_major_order(width: u32, height: u32) -> impl Iterator<Item = (usize, usize)> {
+    let across = width.div_ceil(TILE);
+    (0..height).flat_map(move |y| {
+        (0..width).map(move |x| {
+            let t = ((y / TILE) * across + x / TILE) as usize;
+            // Tiles are TILE wide except the last of a row of tiles.
+            let tile_width = TILE.min(width - (x / TILE) * TILE);
+            let local = (y % TILE) * tile_width + x % TILE;
+            (t, local as usize)
+        })
+    })
+}
+
 /// Renders the scene. With `count`, a [`Counter`] records rays, tests and nodes per pixel;
 /// otherwise the zero-cost [`NoRecorder`] runs. Tiles ([`tiles`]) are traced in parallel and
 /// gathered back into rows, and each sample's randomness depends only on its own key, so the result is the
@@ -211,25 +227,13 @@ fn render_with<R: Tally>(
         };
     }
 
-    // Back to row-major order: pixel (x, y) is entry `local` of tile `t`.
-    let across = w.div_ceil(TILE);
-    let entry = |x: u32, y: u32| {
-        let t = ((y / TILE) * across + x / TILE) as usize;
-        let tile = &tiles[t];
-        let local = (y - tile.y.start) * tile.x.len() as u32 + (x - tile.x.start);
-        (t, local as usize)
-    };
-    let order: Vec<(usize, usize)> = (0..h)
-        .flat_map(|y| (0..w).map(move |x| (x, y)))
-        .map(|(x, y)| entry(x, y))
-        .collect();
     // The first in row-major order (a tile's own first is its first in that order too).
     let first_nan = traced
         .iter()
         .filter_map(|t| t.2)
         .min_by_key(|&(x, y, _)| (y, x));
     let mut stats: Option<RenderStats> = None;
-    for s in order.iter().filter_map(|&(t, l)| traced[t].1[l]) {
+    for s in row_major_order(w, h).filter_map(|(t, l)| traced[t].1[l]) {
         let st = stats.get_or_insert_with(RenderStats::default);
         st.rays.add(&s.0);
         st.tests += s.1;
@@ -238,7 +242,9 @@ fn render_with<R: Tally>(
         st.pixel_tests.push(s.1);
         st.pixel_nodes.push(s.2);
     }
-    let grid: Vec<&Vec<PixelSample>> = order.iter().map(|&(t, l)| &traced[t].0[l]).collect();
+    let grid: Vec<&Vec<PixelSample>> = row_major_order(w, h)
+        .map(|(t, l)| &traced[t].0[l])
+        .collect();
     let spp_map = Some(grid.iter().map(|s| s.len() as u32).collect());
     let filter = Filter::for_settings(settings);
     let pixels = (0..h)
@@ -360,6 +366,12 @@ mod tests {
                 }
             }
             assert!(seen.iter().all(|&n| n == 1), "{w}×{h}");
+            let order: Vec<_> = row_major_order(w, h).collect();
+            for (t, tile) in tiles.iter().enumerate() {
+                for (l, (x, y)) in tile.pixels().enumerate() {
+                    assert_eq!(order[(y * w + x) as usize], (t, l), "{w}×{h} ({x}, {y})");
+                }
+            }
         }
     }
 }

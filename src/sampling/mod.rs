@@ -5,7 +5,7 @@ mod film;
 mod filter;
 mod sampler;
 
-pub use film::{check_memory, memory_needed, tiles, Tile, MEMORY_BUDGET, TILE};
+pub use film::{check_memory, memory_needed, row_major_order, tiles, Tile, MEMORY_BUDGET, TILE};
 pub use film::{
     encode, reconstruct as render_reconstruct, render, Image, RenderOutput, RenderStats,
 };
