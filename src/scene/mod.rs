@@ -121,6 +121,9 @@ pub struct RenderSettings {
     /// The adaptive sampler splits a cell when its samples differ by more than this (largest
     /// channel difference, linear colour).
     pub adaptive_threshold: f64,
+    /// Light only by directional lights (the course's Intersect stage does): the others are
+    /// still evaluated, unshadowed, and reported as ignored, but add nothing to the colour.
+    pub directional_only: bool,
 }
 
 impl Default for RenderSettings {
@@ -147,6 +150,7 @@ impl Default for RenderSettings {
             epsilon: 1e-7,
             subsample: 1,
             adaptive_threshold: 0.1,
+            directional_only: false,
         }
     }
 }

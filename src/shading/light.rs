@@ -52,6 +52,11 @@ pub struct LightSample {
 }
 
 impl Light {
+    /// Directional lights are the only ones the course's Intersect stage renders.
+    pub fn is_directional(&self) -> bool {
+        matches!(self.kind, LightKind::Directional { .. })
+    }
+
     /// How many shadow rays this light needs per shaded point.
     pub fn sample_count(&self) -> usize {
         match self.kind {

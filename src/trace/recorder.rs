@@ -65,6 +65,9 @@ pub trait Recorder {
     fn surface(&mut self, _s: &Shading) {}
     fn ambient(&mut self, _c: DVec3) {}
     fn light(&mut self, _term: &LightTerm) {}
+    /// A light the settings leave out (`directional_only`): its term as it would have been,
+    /// unshadowed, which the colour does not include.
+    fn ignored_light(&mut self, _term: &LightTerm) {}
     fn reflected(&mut self, _c: DVec3) {}
     fn transmitted(&mut self, _c: DVec3) {}
     /// A refraction child carries only one colour channel (dispersion).

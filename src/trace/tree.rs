@@ -101,6 +101,10 @@ pub struct HitObjectSpace {
 pub struct ShadingNode {
     pub ambient: DVec3,
     pub lights: Vec<LightNode>,
+    /// Lights the settings leave out (the Intersect stage's point and spot lights), with the
+    /// terms they would have added; not part of `color`. Absent when there are none.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub ignored_lights: Vec<LightNode>,
     pub reflected: DVec3,
     pub transmitted: DVec3,
 }
@@ -146,10 +150,28 @@ impl<'a> TreeRecorder<'a> {
     fn top(&mut self) -> &mut RayNode {
         self.stack.last_mut().expect("a ray is being traced")
     }
+
+    fn light_node(&self, t: &LightTerm) -> LightNode {
+        LightNode {
+            light: self.scene.lights[t.light].name.clone(),
+            visible: t.visible,
+            visibility: t.visibility,
+            distance: t.distance.is_finite().then_some(t.distance),
+            attenuation: t.attenuation,
+            spot: t.spot,
+            n_dot_l: t.n_dot_l,
+            diffuse: t.diffuse,
+            r_dot_v: t.r_dot_v,
+            r_dot_v_pow: t.r_dot_v_pow,
+            specular: t.specular,
+        }
+    }
+
     fn shading(&mut self) -> &mut ShadingNode {
         self.top().shading.get_or_insert_with(|| ShadingNode {
             ambient: DVec3::ZERO,
             lights: Vec::new(),
+            ignored_lights: Vec::new(),
             reflected: DVec3::ZERO,
             transmitted: DVec3::ZERO,
         })
@@ -244,20 +266,13 @@ impl Recorder for TreeRecorder<'_> {
     }
 
     fn light(&mut self, t: &LightTerm) {
-        let name = self.scene.lights[t.light].name.clone();
-        self.shading().lights.push(LightNode {
-            light: name,
-            visible: t.visible,
-            visibility: t.visibility,
-            distance: t.distance.is_finite().then_some(t.distance),
-            attenuation: t.attenuation,
-            spot: t.spot,
-            n_dot_l: t.n_dot_l,
-            diffuse: t.diffuse,
-            r_dot_v: t.r_dot_v,
-            r_dot_v_pow: t.r_dot_v_pow,
-            specular: t.specular,
-        });
+        let node = self.light_node(t);
+        self.shading().lights.push(node);
+    }
+
+    fn ignored_light(&mut self, t: &LightTerm) {
+        let node = self.light_node(t);
+        self.shading().ignored_lights.push(node);
     }
 
     fn reflected(&mut self, c: DVec3) {

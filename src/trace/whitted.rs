@@ -158,6 +158,9 @@ impl<'a> Tracer<'a> {
             &[]
         };
         for (li, light) in lights.iter().enumerate() {
+            // Evaluated even when ignored, so the random numbers of an area light are drawn
+            // the same way in render and explain.
+            let ignored = self.settings.directional_only && !light.is_directional();
             let count = light.sample_count();
             let mut term = LightTerm {
                 light: li,
@@ -180,7 +183,8 @@ impl<'a> Tracer<'a> {
                 term.spot += ls.spot * share;
                 let faces_light = n.dot(ls.l) > 0.0 && ls.spot > 0.0;
                 let visible = faces_light
-                    && (!self.settings.shadows
+                    && (ignored
+                        || !self.settings.shadows
                         || self.shadow_ray(above, ls.l, ls.distance, depth, rec));
                 let (diffuse, specular, n_dot_l, r_dot_v, pow) =
                     s.light(light.color * ls.spot * share, ls.l, n, v, ls.f_att);
@@ -193,6 +197,10 @@ impl<'a> Tracer<'a> {
                     term.diffuse += diffuse;
                     term.specular += specular;
                 }
+            }
+            if ignored {
+                rec.ignored_light(&term);
+                continue;
             }
             rec.light(&term);
             color += term.diffuse + term.specular;
