@@ -30,3 +30,46 @@ pub fn check() -> Result<()> {
         Ok(())
     }
 }
+
+/// A cancellation flag a caller owns: a render, an explain or a step sequence whose settings
+/// carry it ([`crate::scene::RenderSettings::cancel`]) stops soon after [`Cancel::cancel`]
+/// (the tracer looks every [`crate::trace::CHECK_EVERY`] rays, the renderer at every pixel),
+/// and its result is then to be thrown away ([`crate::sampling::RenderOutput::cancelled`]).
+/// Every token also sees Ctrl-C, so the default token is the global flag alone.
+///
+/// Cloning shares the flag (cancel a clone, and the original is cancelled). Tokens compare
+/// equal whatever their state: cancelling decides whether a render finishes, never its pixels.
+#[derive(Clone, Default)]
+pub struct Cancel(Option<std::sync::Arc<AtomicBool>>);
+
+impl Cancel {
+    /// A fresh token of its own, not cancelled.
+    pub fn new() -> Cancel {
+        Cancel(Some(std::sync::Arc::new(AtomicBool::new(false))))
+    }
+
+    /// Asks every render using this token (or a clone of it) to stop. A default token has no
+    /// flag of its own: for it this does nothing (only Ctrl-C stops it).
+    pub fn cancel(&self) {
+        if let Some(f) = &self.0 {
+            f.store(true, Ordering::SeqCst);
+        }
+    }
+
+    /// Has this token been cancelled, or Ctrl-C pressed?
+    pub fn is_cancelled(&self) -> bool {
+        requested() || self.0.as_ref().is_some_and(|f| f.load(Ordering::Relaxed))
+    }
+}
+
+impl PartialEq for Cancel {
+    fn eq(&self, _other: &Cancel) -> bool {
+        true
+    }
+}
+
+impl std::fmt::Debug for Cancel {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Cancel({})", if self.is_cancelled() { "cancelled" } else { "running" })
+    }
+}

@@ -299,6 +299,7 @@ fn ray(o: &mut String, scene: &Scene, n: &RayNode, depth: usize) {
         End::TotalInternalReflection => {
             ", total internal reflection: the transmitted ray was reflected"
         }
+        End::RayBudget => ", cut: ray budget reached (max_rays; the rest of this sample's tree was not traced)",
         End::Miss | End::Blocked => "",
     };
     let _ = writeln!(

@@ -134,6 +134,10 @@ pub struct RenderArgs {
     /// Use a pinhole even if the camera has an aperture.
     #[arg(long)]
     pub no_depth_of_field: bool,
+    /// Ray budget of one sample (default 100000): past it, the rest of the sample's ray tree
+    /// is cut (explain shows `end: ray-budget`).
+    #[arg(long, value_name = "N")]
+    pub max_rays: Option<u64>,
 }
 
 impl RenderArgs {
@@ -225,6 +229,12 @@ impl RenderArgs {
                 ));
             }
         }
+        if self.max_rays == Some(0) {
+            return Err(Error::arg(
+                "--max-rays",
+                "must be at least 1 (the camera ray): it is the most rays one sample may trace",
+            ));
+        }
         if let (Some(w), Some(h)) = (self.width, self.height) {
             check_size(w, h).map_err(|m| Error::arg("--width/--height", m))?;
         }
@@ -254,6 +264,9 @@ impl RenderArgs {
         }
         if let Some(s) = self.seed {
             r.seed = s;
+        }
+        if let Some(n) = self.max_rays {
+            r.max_rays = n;
         }
         if let Some(e) = &self.encoding {
             r.encoding = if e == "srgb" {

@@ -106,6 +106,12 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
         0.0
     };
 
+    // Said before it happens: on a terminal, the first line warns of trees the budget will cut.
+    if !args.quiet && std::io::stderr().is_terminal() {
+        if let Some(w) = crate::trace::branching_warning(&scene, &scene.render) {
+            eprintln!("warning: {w}");
+        }
+    }
     let bar = (!args.quiet && std::io::stderr().is_terminal()).then(|| {
         let pixels = scene.camera.width as u64 * scene.camera.height as u64;
         let bar = indicatif::ProgressBar::new(pixels);
@@ -116,6 +122,8 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
             .expect("valid template")
             .progress_chars("=> "),
         );
+        // The spinner and the clock move even while a slow pixel is still being traced.
+        bar.enable_steady_tick(std::time::Duration::from_millis(200));
         bar
     });
     let result = with_threads(args.threads, || {
@@ -131,6 +139,16 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
              (reflective or transparent colours above 1 amplify light at every bounce and can overflow; otherwise this is a bug in rtlab). \
              Reproduce it with: rtlab explain {} --pixel {x},{y} --sample {k}",
             args.scene.display()
+        );
+    }
+    if let Some((x, y, k)) = result.first_cut {
+        eprintln!(
+            "warning: the ray budget ({} rays per sample, render.max_rays or --max-rays) cut {} sample(s): \
+             their ray trees were not traced to the end, so their pixels miss part of their light \
+             (the first is sample {k} of pixel ({x}, {y})). See where it was cut with: {}",
+            scene.render.max_rays,
+            result.cut_samples,
+            explain_command(&args, x, y, k)
         );
     }
     write_png(&out, &result.image.to_rgb8(scene.render.encoding))?;
@@ -180,4 +198,39 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
         eprintln!("wrote {}", out.display());
     }
     Ok(())
+}
+
+/// The `rtlab explain` command that traces sample `k` of pixel (x, y) as this render did:
+/// the scene and every option given that changes a pixel.
+fn explain_command(args: &Args, x: u32, y: u32, k: u32) -> String {
+    let r = &args.render;
+    let mut c = format!("rtlab explain {} --pixel {x},{y}", args.scene.display());
+    let mut opt = |name: &str, v: Option<String>| {
+        if let Some(v) = v {
+            c += &format!(" --{name} {v}");
+        }
+    };
+    opt("sample", Some(k.to_string()));
+    opt("width", r.width.map(|v| v.to_string()));
+    opt("height", r.height.map(|v| v.to_string()));
+    opt("spp", r.spp.map(|v| v.to_string()));
+    opt("sampler", r.sampler.clone());
+    opt("subsample", r.subsample.map(|v| v.to_string()));
+    opt("adaptive-threshold", r.adaptive_threshold.map(|v| v.to_string()));
+    opt("max-depth", r.max_depth.map(|v| v.to_string()));
+    opt("seed", r.seed.map(|v| v.to_string()));
+    opt("max-rays", r.max_rays.map(|v| v.to_string()));
+    for (on, flag) in [
+        (r.no_shadows, "--no-shadows"),
+        (r.no_reflections, "--no-reflections"),
+        (r.no_refractions, "--no-refractions"),
+        (r.no_textures, "--no-textures"),
+        (r.no_depth_of_field, "--no-depth-of-field"),
+    ] {
+        if on {
+            c += " ";
+            c += flag;
+        }
+    }
+    c
 }

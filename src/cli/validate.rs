@@ -26,6 +26,9 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
         scene.camera.height
     );
     let mut text = text + "\n";
+    if let Some(w) = crate::trace::branching_warning(&scene, &scene.render) {
+        text += &format!("warning: {w}\n");
+    }
     if scene.format == SceneFormat::Cs1230 {
         for w in crate::scene::cs1230::warnings(&args.scene) {
             text += &format!("warning: {w}\n");

@@ -73,6 +73,13 @@ pub struct RenderOutput {
     /// them; 0 for pixels skipped by `--subsample`). Always filled; it is the interesting one
     /// for the adaptive sampler (draw it with [`crate::viz::heatmap::spp_heat_map`]).
     pub spp_map: Option<Vec<u32>>,
+    /// Samples whose tree the ray budget (`max_rays`) cut.
+    pub cut_samples: u64,
+    /// The first cut sample in row-major order of pixels: (x, y, sample index).
+    pub first_cut: Option<(u32, u32, u32)>,
+    /// `settings.cancel` was cancelled (or Ctrl-C pressed) during the render: some pixels
+    /// were skipped or cut short, so the image is not to be used.
+    pub cancelled: bool,
 }
 
 /// Side of the square tiles a render hands out to threads. Neighbouring rays open the same
@@ -174,27 +181,33 @@ fn render_with<R: Tally>(
     let (w, h) = (scene.camera.width, scene.camera.height);
     let start = Instant::now();
     /// One tile's samples and counts, pixel by pixel in the tile's own row-major order,
-    /// and its first non-finite sample.
+    /// its first non-finite sample, and its samples the ray budget cut (count, first).
     type Traced = (
         Vec<Vec<PixelSample>>,
         Vec<Option<(RayCounts, u64, u64)>>,
         Option<(u32, u32, u32)>,
+        (u64, Option<(u32, u32, u32)>),
     );
     let tiles = tiles(w, h);
     let traced: Vec<Traced> = tiles
         .par_iter()
         .map(|tile| {
-            if crate::interrupt::requested() {
-                // Ctrl-C: skip the remaining tiles; the caller writes nothing.
-                return (Vec::new(), Vec::new(), None);
-            }
             let mut samples = Vec::with_capacity(tile.len());
             let mut stats = Vec::with_capacity(tile.len());
             let mut nan = None;
+            let mut cut = (0, None);
             for (x, y) in tile.pixels() {
+                if settings.cancel.is_cancelled() {
+                    // Ctrl-C or a cancelled token: skip the rest; the caller writes nothing.
+                    break;
+                }
                 let mut rec = R::default();
                 let px = sample_pixel(settings, w, h, x, y, |k, film| {
                     let r = trace_sample(scene, settings, x, y, k, film, &mut rec);
+                    if r.cut {
+                        cut.0 += 1;
+                        cut.1.get_or_insert((x, y, k));
+                    }
                     if r.color.is_finite() {
                         r.color
                     } else {
@@ -204,15 +217,16 @@ fn render_with<R: Tally>(
                 });
                 samples.push(px);
                 stats.push(rec.into_stats());
+                // Pixel by pixel, so the bar moves while a slow tile is still being traced.
+                if let Some(p) = progress {
+                    p.inc(1);
+                }
             }
-            if let Some(p) = progress {
-                p.inc(tile.len() as u64);
-            }
-            (samples, stats, nan)
+            (samples, stats, nan, cut)
         })
         .collect();
     let trace_seconds = start.elapsed().as_secs_f64();
-    if crate::interrupt::requested() {
+    if settings.cancel.is_cancelled() {
         // Some tiles were skipped: there is no image to reconstruct (and none will be written).
         return RenderOutput {
             image: Image {
@@ -224,6 +238,9 @@ fn render_with<R: Tally>(
             trace_seconds,
             first_nan: None,
             spp_map: None,
+            cut_samples: 0,
+            first_cut: None,
+            cancelled: true,
         };
     }
 
@@ -231,6 +248,11 @@ fn render_with<R: Tally>(
     let first_nan = traced
         .iter()
         .filter_map(|t| t.2)
+        .min_by_key(|&(x, y, _)| (y, x));
+    let cut_samples = traced.iter().map(|t| t.3 .0).sum();
+    let first_cut = traced
+        .iter()
+        .filter_map(|t| t.3 .1)
         .min_by_key(|&(x, y, _)| (y, x));
     let mut stats: Option<RenderStats> = None;
     for s in row_major_order(w, h).filter_map(|(t, l)| traced[t].1[l]) {
@@ -272,6 +294,9 @@ fn render_with<R: Tally>(
         trace_seconds,
         first_nan,
         spp_map,
+        cut_samples,
+        first_cut,
+        cancelled: false,
     }
 }
 

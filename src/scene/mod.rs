@@ -124,6 +124,12 @@ pub struct RenderSettings {
     /// Light only by directional lights (the course's Intersect stage does): the others are
     /// still evaluated, unshadowed, and reported as ignored, but add nothing to the colour.
     pub directional_only: bool,
+    /// The ray budget of one sample: once its tree has traced this many rays (every kind
+    /// counted), no further reflection or refraction ray is spawned and the node that wanted
+    /// one ends with [`crate::trace::End::RayBudget`] (`render.max_rays`, `--max-rays`).
+    pub max_rays: u64,
+    /// Stops a render early when cancelled (or on Ctrl-C); never changes a pixel.
+    pub cancel: crate::interrupt::Cancel,
 }
 
 impl Default for RenderSettings {
@@ -151,6 +157,8 @@ impl Default for RenderSettings {
             subsample: 1,
             adaptive_threshold: 0.1,
             directional_only: false,
+            max_rays: crate::trace::DEFAULT_MAX_RAYS,
+            cancel: crate::interrupt::Cancel::default(),
         }
     }
 }

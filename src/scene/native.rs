@@ -61,6 +61,7 @@ const RENDER: &[&str] = &[
     "seed",
     "encoding",
     "clamp_each_ray",
+    "max_rays",
 ];
 const GLOBAL: &[&str] = &["ka", "kd", "ks", "kt"];
 const LIGHT: &[&str] = &[
@@ -279,6 +280,12 @@ fn render_settings(n: &Node) -> Result<RenderSettings> {
             s => Err(n.err(format!("unknown encoding \"{s}\" (expected clamp or srgb)"))),
         })?,
         clamp_each_ray: o.or("clamp_each_ray", d.clamp_each_ray, |n| n.bool())?,
+        max_rays: o.or("max_rays", d.max_rays, |n| match n.u32()? {
+            0 => Err(n.err(
+                "max_rays must be at least 1 (the camera ray): it is the most rays one sample may trace",
+            )),
+            v => Ok(v as u64),
+        })?,
         ..d
     })
 }

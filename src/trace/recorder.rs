@@ -32,6 +32,9 @@ pub enum End {
     TotalInternalReflection,
     /// A shadow ray that hit an object before reaching its light.
     Blocked,
+    /// A reflection or refraction ray was wanted, but the sample had already traced its ray
+    /// budget (`max_rays`): the rest of its tree was cut.
+    RayBudget,
 }
 
 /// The winning hit of a ray, with everything shading derived from it.

@@ -1,3 +1,4 @@
+use super::budget::Budget;
 use super::{End, HitInfo, RayKind, Recorder};
 use crate::camera::RayGeneration;
 use crate::math::{Ray, Rng};
@@ -10,6 +11,8 @@ use glam::{DVec2, DVec3};
 pub struct Tracer<'a> {
     pub scene: &'a Scene,
     pub settings: &'a RenderSettings,
+    /// The rays this sample has traced, against `settings.max_rays`.
+    budget: Budget<'a>,
 }
 
 /// One traced sample: where it was on the film and what colour it brought back.
@@ -18,6 +21,11 @@ pub struct SampleResult {
     pub film: DVec2,
     pub color: DVec3,
     pub generation: RayGeneration,
+    /// Rays the sample traced, of every kind.
+    pub rays: u64,
+    /// The ray budget (`settings.max_rays`) cut the tree: some node ends with
+    /// [`End::RayBudget`] (or the render was cancelled).
+    pub cut: bool,
 }
 
 /// Traces sample `index` at film position `film` of pixel (`px`, `py`). The sample's random
@@ -34,16 +42,27 @@ pub fn trace_sample<R: Recorder>(
     let mut rng = Rng::new(&[settings.seed, px as u64, py as u64, index as u64]);
     let lens = scene.camera.lens_sample(settings.depth_of_field, &mut rng);
     let (ray, generation) = scene.camera.generate(film, lens);
-    let tracer = Tracer { scene, settings };
+    let tracer = Tracer::new(scene, settings);
     let color = tracer.trace(&ray, RayKind::Camera, 0, DVec3::ONE, &mut rng, rec);
     SampleResult {
         film,
         color,
         generation,
+        rays: tracer.budget.rays(),
+        cut: tracer.budget.cut(),
     }
 }
 
 impl<'a> Tracer<'a> {
+    /// A tracer for one sample: its ray budget starts at zero.
+    pub fn new(scene: &'a Scene, settings: &'a RenderSettings) -> Tracer<'a> {
+        Tracer {
+            scene,
+            settings,
+            budget: Budget::new(settings.max_rays, &settings.cancel),
+        }
+    }
+
     // ANCHOR: trace
     /// Traces one ray and returns its colour. `weight` is the product of the weights on the
     /// path from the camera (for the `min_contribution` cutoff).
@@ -57,6 +76,7 @@ impl<'a> Tracer<'a> {
         rec: &mut R,
     ) -> DVec3 {
         rec.begin_ray(kind, depth, ray);
+        self.budget.count();
         let scene = self.scene;
         let Some((object, local)) =
             scene
@@ -222,6 +242,10 @@ impl<'a> Tracer<'a> {
                 }
                 return false;
             }
+            if !self.budget.allows() {
+                *end = End::RayBudget;
+                return false;
+            }
             true
         };
 
@@ -280,6 +304,10 @@ impl<'a> Tracer<'a> {
                     if (weight * w).max_element() <= 0.0 {
                         continue; // a one-channel ray splits no further: other channels carry nothing
                     }
+                    if !self.budget.allows() {
+                        end = End::RayBudget;
+                        break;
+                    }
                     let t = match refract(d, n, eta) {
                         Some(dir) => Ray::new(below, dir),
                         None => {
@@ -314,6 +342,7 @@ impl<'a> Tracer<'a> {
     ) -> bool {
         let ray = Ray::new(origin, l);
         rec.begin_ray(RayKind::Shadow, depth + 1, &ray);
+        self.budget.count();
         let scene = self.scene;
         let blocker = scene
             .accel

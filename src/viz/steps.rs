@@ -354,6 +354,7 @@ pub fn describe_event(node: &RayNode) -> String {
         End::MaxDepth => s += "; max depth reached, no further rays",
         End::TotalInternalReflection => s += "; total internal reflection",
         End::Cutoff => s += "; a further ray would be too faint (cutoff)",
+        End::RayBudget => s += "; cut: ray budget reached",
         _ => {}
     }
     s
