@@ -61,6 +61,7 @@ const RENDER: &[&str] = &[
     "seed",
     "encoding",
     "clamp_each_ray",
+    "texture_filter",
 ];
 const GLOBAL: &[&str] = &["ka", "kd", "ks", "kt"];
 const LIGHT: &[&str] = &[
@@ -279,6 +280,14 @@ fn render_settings(n: &Node) -> Result<RenderSettings> {
             s => Err(n.err(format!("unknown encoding \"{s}\" (expected clamp or srgb)"))),
         })?,
         clamp_each_ray: o.or("clamp_each_ray", d.clamp_each_ray, |n| n.bool())?,
+        texture_filter: o.or("texture_filter", d.texture_filter, |n| {
+            let s = n.str()?;
+            crate::shading::TextureFilter::parse(s).ok_or_else(|| {
+                n.err(format!(
+                    "unknown texture filter \"{s}\" (expected nearest or bilinear)"
+                ))
+            })
+        })?,
         ..d
     })
 }
