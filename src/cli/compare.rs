@@ -70,6 +70,9 @@ pub struct Args {
     /// Threshold of the adaptive sampler.
     #[arg(long, value_name = "T")]
     pub adaptive_threshold: Option<f64>,
+    /// The course's stage (see `rtlab render --help`); the runs' sampling stays compare's.
+    #[arg(long, value_name = "intersect|illuminate")]
+    pub course_stage: Option<String>,
 }
 
 /// One run: its sampler and spp.
@@ -201,6 +204,7 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
         max_depth: args.max_depth,
         seed: args.seed,
         adaptive_threshold: args.adaptive_threshold,
+        course_stage: args.course_stage.clone(),
         ..RenderArgs::default()
     };
     let scene = base.load(&args.scene)?;

@@ -272,6 +272,21 @@ fn ray(o: &mut String, scene: &Scene, n: &RayNode, depth: usize) {
                 }
             }
         }
+        for l in &s.ignored_lights {
+            let dist = l
+                .distance
+                .map(|d| format!(" (d = {})", short(d)))
+                .unwrap_or_default();
+            let _ = writeln!(
+                o,
+                "{pad}    light {}: IGNORED (directional lights only, as in the course's Intersect stage): would add f_att = {}{dist}, n·l = {}, diffuse = {}, specular = {} (unshadowed); not in the colour",
+                l.light,
+                short(l.attenuation),
+                short(l.n_dot_l),
+                color(l.diffuse),
+                color(l.specular)
+            );
+        }
         if s.reflected != DVec3::ZERO || n.children.iter().any(|c| c.kind == RayKind::Reflection) {
             let _ = writeln!(o, "{pad}    reflected ks·Or·I_r = {}", color(s.reflected));
         }

@@ -16,7 +16,8 @@ pub mod validate;
 
 use crate::accel::AccelKind;
 use crate::error::{Error, Result};
-use crate::scene::{check_size, Encoding, FilterKind, SamplerKind, Scene};
+use crate::scene::{check_size, CourseStage, Encoding, FilterKind, Loaded, SamplerKind, Scene};
+use crate::shading::TextureFilter;
 use clap::{Parser, Subcommand};
 use glam::DVec3;
 use std::io::Write;
@@ -138,6 +139,33 @@ pub struct RenderArgs {
     /// is cut (explain shows `end: ray-budget`).
     #[arg(long, value_name = "N")]
     pub max_rays: Option<u64>,
+    /// The course's stage: its template ini switches and what its reference renderer does.
+    /// intersect: directional lights only, no shadows/reflections/refractions/textures,
+    /// depth 0, 1 spp; illuminate: shadows, reflections, textures, depth 4, 1 spp.
+    /// Explicit switches override it (default for an ini: the stage its folder names).
+    #[arg(long, value_name = "intersect|illuminate")]
+    pub course_stage: Option<String>,
+    /// Texture lookup: nearest (default) or bilinear.
+    #[arg(long, value_name = "nearest|bilinear")]
+    pub texture_filter: Option<String>,
+    /// Turn on shadow rays (over a stage or ini that turns them off).
+    #[arg(long, conflicts_with = "no_shadows")]
+    pub shadows: bool,
+    /// Turn on reflection rays.
+    #[arg(long, conflicts_with = "no_reflections")]
+    pub reflections: bool,
+    /// Turn on refraction and transparency.
+    #[arg(long, conflicts_with = "no_refractions")]
+    pub refractions: bool,
+    /// Turn on textures.
+    #[arg(long, conflicts_with = "no_textures")]
+    pub textures: bool,
+    /// Turn on depth of field (when the camera has an aperture).
+    #[arg(long, conflicts_with = "no_depth_of_field")]
+    pub depth_of_field: bool,
+    /// Set by commands that have --quiet: the load's warnings are not printed.
+    #[arg(skip)]
+    pub quiet: bool,
 }
 
 impl RenderArgs {
@@ -154,16 +182,61 @@ impl RenderArgs {
         })
     }
 
-    /// Loads the scene and applies these options to it.
+    /// Loads the scene (a scene file or a course `.ini`) and applies these options to it;
+    /// the load's warnings go to stderr once, unless `quiet`.
     pub fn load(&self, path: &std::path::Path) -> Result<Scene> {
+        let loaded = self.load_full(path)?;
+        self.warn(&loaded.warnings);
+        Ok(loaded.scene)
+    }
+
+    /// Prints warnings on stderr unless `quiet`.
+    pub fn warn(&self, warnings: &[String]) {
+        if !self.quiet {
+            for w in warnings {
+                eprintln!("warning: {w}");
+            }
+        }
+    }
+
+    /// [`RenderArgs::load`] without printing: the scene, its warnings (the lights a course
+    /// stage ignores among them), the stage and the ini's output path.
+    pub fn load_full(&self, path: &std::path::Path) -> Result<Loaded> {
         // Cheap argument checks first, so a typo is reported before a long load.
         self.check()?;
-        let mut scene = Scene::load(path)?;
-        self.apply(&mut scene)?;
-        Ok(scene)
+        let mut loaded = crate::scene::open(path, self.stage())?;
+        self.apply(&mut loaded.scene)?;
+        if loaded.stage == Some(CourseStage::Intersect) {
+            loaded
+                .warnings
+                .extend(crate::scene::ignored_lights_note(&loaded.scene));
+        }
+        Ok(loaded)
+    }
+
+    fn stage(&self) -> Option<CourseStage> {
+        self.course_stage
+            .as_deref()
+            .map(|s| CourseStage::parse(s).expect("checked"))
     }
 
     fn check(&self) -> Result<()> {
+        if let Some(s) = &self.course_stage {
+            CourseStage::parse(s).ok_or_else(|| {
+                Error::arg(
+                    "--course-stage",
+                    format!("unknown course stage \"{s}\" (expected intersect or illuminate)"),
+                )
+            })?;
+        }
+        if let Some(s) = &self.texture_filter {
+            TextureFilter::parse(s).ok_or_else(|| {
+                Error::arg(
+                    "--texture-filter",
+                    format!("unknown texture filter \"{s}\" (expected nearest or bilinear)"),
+                )
+            })?;
+        }
         if let Some(s) = &self.sampler {
             SamplerKind::parse(s).ok_or_else(|| {
                 Error::arg(
@@ -275,11 +348,19 @@ impl RenderArgs {
                 Encoding::Clamp
             };
         }
-        r.shadows &= !self.no_shadows;
-        r.reflections &= !self.no_reflections;
-        r.refractions &= !self.no_refractions;
-        r.textures &= !self.no_textures;
-        r.depth_of_field &= !self.no_depth_of_field;
+        // Explicit switches win over the scene, the stage and the ini, in both directions
+        // (clap refuses a switch given with its negation).
+        let set = |v: &mut bool, on: bool, off: bool| {
+            *v = (*v || on) && !off;
+        };
+        set(&mut r.shadows, self.shadows, self.no_shadows);
+        set(&mut r.reflections, self.reflections, self.no_reflections);
+        set(&mut r.refractions, self.refractions, self.no_refractions);
+        set(&mut r.textures, self.textures, self.no_textures);
+        set(&mut r.depth_of_field, self.depth_of_field, self.no_depth_of_field);
+        if let Some(f) = &self.texture_filter {
+            r.texture_filter = TextureFilter::parse(f).expect("checked");
+        }
         let (w, h) = (
             self.width.unwrap_or(scene.camera.width),
             self.height.unwrap_or(scene.camera.height),

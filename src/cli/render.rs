@@ -73,16 +73,45 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
         })?),
     };
     let suffix = aov.map(|a| format!("-{}", a.name())).unwrap_or_default();
-    let out = default_output(&args.scene, args.output.clone(), &suffix);
-    check_png(&out, "-o")?;
-    if let Some(aov) = aov {
-        if stats_format.is_some() {
-            return Err(Error::arg(
-                "--stats",
-                "cannot be combined with --aov (the cost AOV shows the work per pixel)",
-            ));
+    if let Some(o) = &args.output {
+        check_png(o, "-o")?;
+    }
+    if aov.is_some() && stats_format.is_some() {
+        return Err(Error::arg(
+            "--stats",
+            "cannot be combined with --aov (the cost AOV shows the work per pixel)",
+        ));
+    }
+    let t0 = Instant::now();
+    let mut render_args = args.render.clone();
+    render_args.quiet = args.quiet;
+    let loaded = render_args.load_full(&args.scene)?;
+    // A course ini names its output (created with its folders, as the course's program
+    // does); -o wins.
+    let out = match (&args.output, &loaded.output) {
+        (None, Some(o)) => {
+            // An AOV goes beside it: unit_cone-normal.png.
+            let o = if suffix.is_empty() {
+                o.clone()
+            } else {
+                let stem = o.file_stem().and_then(|s| s.to_str()).unwrap_or("render");
+                o.with_file_name(format!("{stem}{suffix}.png"))
+            };
+            if let Some(dir) = o.parent().filter(|d| !d.as_os_str().is_empty()) {
+                std::fs::create_dir_all(dir)
+                    .map_err(|e| Error::io(dir, format!("cannot create the output folder: {e}")))?;
+            }
+            check_png(&o, "the ini's [IO] output")?;
+            o
         }
-        let scene = args.render.load(&args.scene)?;
+        _ => default_output(&args.scene, args.output.clone(), &suffix),
+    };
+    if args.output.is_none() && loaded.output.is_none() {
+        check_png(&out, "-o")?;
+    }
+    render_args.warn(&loaded.warnings);
+    let scene = loaded.scene;
+    if let Some(aov) = aov {
         let img = with_threads(args.threads, || render_aov(&scene, &scene.render, aov))?;
         write_png(&out, &img.image)?;
         if !args.quiet {
@@ -91,8 +120,6 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
         }
         return Ok(());
     }
-    let t0 = Instant::now();
-    let scene = args.render.load(&args.scene)?;
     args.render
         .check_memory(&scene, &args.scene, scene.render.spp)?;
     let load = t0.elapsed().as_secs_f64();

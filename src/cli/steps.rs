@@ -116,7 +116,9 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
             "cannot be combined with --pixel (forward tracing has no pixel to follow)",
         ));
     }
-    let scene = args.render.load(&args.scene)?;
+    let mut render = args.render.clone();
+    render.quiet = args.quiet;
+    let scene = render.load(&args.scene)?;
     args.render
         .check_memory(&scene, &args.scene, scene.render.spp)?;
     if args.forward {

@@ -16,6 +16,7 @@ use crate::shapes::{Aabb, Shape};
 use glam::DVec3;
 use std::path::{Path, PathBuf};
 
+pub use cs1230::stage::{ignored_lights_note, CourseStage};
 pub use native::NATIVE_KEYS;
 pub use solids::load_solid;
 
@@ -130,6 +131,12 @@ pub struct RenderSettings {
     pub max_rays: u64,
     /// Stops a render early when cancelled (or on Ctrl-C); never changes a pixel.
     pub cancel: crate::interrupt::Cancel,
+    /// How a texture is looked up: nearest texel (the course's requirement) or bilinear.
+    pub texture_filter: crate::shading::TextureFilter,
+    /// Refraction the course's way (FORMAT §8): bend in, trace to the exit on the same
+    /// object, bend out; the inner surface is not shaded and total internal reflection adds
+    /// nothing. Off: rtlab's general Whitted refraction. The CS1230 loader turns it on.
+    pub course_refraction: bool,
 }
 
 impl Default for RenderSettings {
@@ -159,6 +166,8 @@ impl Default for RenderSettings {
             directional_only: false,
             max_rays: crate::trace::DEFAULT_MAX_RAYS,
             cancel: crate::interrupt::Cancel::default(),
+            texture_filter: crate::shading::TextureFilter::Nearest,
+            course_refraction: false,
         }
     }
 }
@@ -208,6 +217,12 @@ pub struct Scene {
 impl Scene {
     /// Loads a scene file of either format, recognised by its keys.
     pub fn load(path: &Path) -> Result<Scene> {
+        Scene::load_reporting(path).map(|(s, _)| s)
+    }
+
+    /// [`Scene::load`], with what a student should hear about the file (a texture found
+    /// somewhere else, a duplicate template name): one sentence each, file and place named.
+    pub fn load_reporting(path: &Path) -> Result<(Scene, Vec<String>)> {
         if path.is_dir() {
             return Err(Error::io(
                 path,
@@ -224,13 +239,13 @@ impl Scene {
             )
         })?;
         let value = json::parse(path, &text)?;
-        let mut scene = if crate::scene::is_cs1230(&value) {
-            cs1230::load(path, &value)?
+        let (mut scene, warnings) = if crate::scene::is_cs1230(&value) {
+            cs1230::load_reporting(path, &value)?
         } else {
-            native::load(path, &value)?
+            (native::load(path, &value)?, Vec::new())
         };
         scene.rebuild_accel();
-        Ok(scene)
+        Ok((scene, warnings))
     }
 
     /// (Re)builds the accelerator after objects or `render.accel` changed.
@@ -260,6 +275,38 @@ impl Scene {
     pub fn object_name(&self, object: usize) -> &str {
         &self.objects[object].name
     }
+}
+
+/// A scene as every command that renders loads it: from a scene file or from a course
+/// `.ini` file (which names the scenefile and its settings), with a course stage applied.
+#[derive(Debug, Clone)]
+pub struct Loaded {
+    pub scene: Scene,
+    /// Things to tell the user once, on stderr (or in `validate`'s report).
+    pub warnings: Vec<String>,
+    /// The course stage in force: `--course-stage`, else the ini's folder.
+    pub stage: Option<CourseStage>,
+    /// The ini's `[IO] output`, resolved (render writes there unless `-o` is given).
+    pub output: Option<PathBuf>,
+}
+
+/// Opens a scene file or a course `.ini` (recognised by its extension). Settings apply in
+/// this order: the scene's own, then the stage's preset (`stage`, else the stage the ini's
+/// folder names), then the ini's keys; the caller's command-line switches come last.
+pub fn open(path: &Path, stage: Option<CourseStage>) -> Result<Loaded> {
+    if cs1230::ini::is_ini(path) {
+        return cs1230::ini::open(path, stage);
+    }
+    let (mut scene, warnings) = Scene::load_reporting(path)?;
+    if let Some(st) = stage {
+        st.apply(&mut scene.render);
+    }
+    Ok(Loaded {
+        scene,
+        warnings,
+        stage,
+        output: None,
+    })
 }
 
 /// A CS1230 scenefile has `globalData` and `cameraData` at the top level.

@@ -62,6 +62,7 @@ const RENDER: &[&str] = &[
     "encoding",
     "clamp_each_ray",
     "max_rays",
+    "texture_filter",
 ];
 const GLOBAL: &[&str] = &["ka", "kd", "ks", "kt"];
 const LIGHT: &[&str] = &[
@@ -285,6 +286,14 @@ fn render_settings(n: &Node) -> Result<RenderSettings> {
                 "max_rays must be at least 1 (the camera ray): it is the most rays one sample may trace",
             )),
             v => Ok(v as u64),
+        })?,
+        texture_filter: o.or("texture_filter", d.texture_filter, |n| {
+            let s = n.str()?;
+            crate::shading::TextureFilter::parse(s).ok_or_else(|| {
+                n.err(format!(
+                    "unknown texture filter \"{s}\" (expected nearest or bilinear)"
+                ))
+            })
         })?,
         ..d
     })

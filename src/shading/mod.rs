@@ -9,4 +9,4 @@ mod texture;
 pub use light::{Light, LightKind, LightSample};
 pub use lighting::{LightTerm, Shading};
 pub use material::Material;
-pub use texture::{Texture, TextureSource};
+pub use texture::{Texture, TextureFilter, TextureSource};

@@ -119,7 +119,7 @@ impl<'a> Tracer<'a> {
         let m = self.scene.material_of(hit.object);
         let mut diffuse = g.kd * m.diffuse;
         if let (Some(tex), true) = (&m.texture, self.settings.textures) {
-            diffuse = (1.0 - tex.blend) * diffuse + tex.blend * tex.texel(hit.local.uv);
+            diffuse = (1.0 - tex.blend) * diffuse + tex.blend * tex.lookup(hit.local.uv, self.settings.texture_filter);
         }
         let transmit = if self.settings.refractions {
             g.kt * m.transparent

@@ -62,6 +62,8 @@ pub struct Ctx<'a> {
     pub textures: HashMap<PathBuf, TextureSource>,
     pub meshes: HashMap<PathBuf, Arc<Mesh>>,
     pub warnings: Vec<String>,
+    /// Missing texture paths already reported (one warning per path, not per primitive).
+    pub reported: std::collections::HashSet<PathBuf>,
 }
 
 impl<'a> Ctx<'a> {
@@ -76,6 +78,7 @@ impl<'a> Ctx<'a> {
             textures: HashMap::new(),
             meshes: HashMap::new(),
             warnings: Vec::new(),
+            reported: Default::default(),
         }
     }
 

@@ -8,7 +8,9 @@
 //! and lights in world space ([`Flat`]), then [`Flat::into_scene`] builds the `Scene`.
 
 mod group;
+pub mod ini;
 mod primitive;
+pub mod stage;
 
 use super::json::Node;
 use super::{Global, Object, RenderSettings, Scene, SceneFormat};
@@ -166,6 +168,13 @@ pub fn read(path: &Path) -> Result<Value> {
 /// Loads a parsed CS1230 scenefile into a [`Scene`] (called by [`Scene::load`]).
 pub fn load(path: &Path, value: &Value) -> Result<Scene> {
     flatten(path, value)?.into_scene(path)
+}
+
+/// [`load`] with the scenefile's warnings.
+pub fn load_reporting(path: &Path, value: &Value) -> Result<(Scene, Vec<String>)> {
+    let mut flat = flatten(path, value)?;
+    let warnings = std::mem::take(&mut flat.warnings);
+    Ok((flat.into_scene(path)?, warnings))
 }
 
 /// Walks a parsed scenefile into a [`Flat`] list of world-space lights and primitives.

@@ -8,7 +8,7 @@ use crate::scene::{load_texture, resolve};
 use crate::shading::{Material, Texture};
 use crate::shapes::{Cone, Cuboid, Cylinder, Shape, Sphere};
 use glam::{DMat4, DVec2, DVec3};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 const PRIMITIVE: &[&str] = &[
@@ -199,15 +199,32 @@ fn texture(
     let Some(file) = o.opt("textureFile", |n| n.str().map(String::from))? else {
         return Ok((None, None));
     };
-    let p = resolve(&ctx.base, &file);
+    // `file:src/../x.png` (some course scenefiles): the prefix is a URL scheme, not a folder.
+    let file = file.strip_prefix("file:").unwrap_or(&file);
+    let mut p = resolve(&ctx.base, file);
     if !p.is_file() {
-        ctx.warnings.push(format!(
-            "{}: {}: texture not found: {} (drawn without it, as the course's renderer does)",
-            n.file.display(),
-            o.child_path("textureFile"),
-            p.display()
-        ));
-        return Ok((None, None));
+        let at = o.child_path("textureFile");
+        match find_in_textures(n.file, &p) {
+            Some(found) => {
+                if ctx.reported.insert(p.clone()) {
+                    ctx.warnings.push(format!(
+                        "{}: {at}: texture not found at {}; using {} (the same name in a textures/ folder beside or above the scenefile)",
+                        n.file.display(),
+                        p.display(),
+                        found.display()
+                    ));
+                }
+                p = found;
+            }
+            None => {
+                ctx.warnings.push(format!(
+                    "{}: {at}: texture not found: {} (nor in a textures/ folder beside or above the scenefile; drawn without it, as the course's renderer does)",
+                    n.file.display(),
+                    p.display()
+                ));
+                return Ok((None, None));
+            }
+        }
     }
     let source = match ctx.textures.get(&p) {
         Some(s) => s.clone(),
@@ -226,6 +243,33 @@ fn texture(
         }),
         Some(p),
     ))
+}
+
+/// Looks for a texture's file name in `textures/` folders beside the scenefile and in each
+/// folder above it, nearest first, up to the scenefile tree's root: a folder named
+/// `scenefiles`, or one holding `.git` or `template_inis/` (at most 8 levels up). The
+/// course's published files name textures by paths that only resolved in its old tree.
+pub fn find_in_textures(scene: &Path, missing: &Path) -> Option<PathBuf> {
+    let name = missing.file_name()?;
+    let dir = scene.parent().unwrap_or(Path::new(""));
+    let dir = if dir.as_os_str().is_empty() {
+        Path::new(".")
+    } else {
+        dir
+    };
+    for a in dir.ancestors().take(8) {
+        let candidate = a.join("textures").join(name);
+        if candidate.is_file() {
+            return Some(candidate);
+        }
+        let root = a.file_name().is_some_and(|n| n == "scenefiles")
+            || a.join(".git").exists()
+            || a.join("template_inis").is_dir();
+        if root {
+            break;
+        }
+    }
+    None
 }
 
 /// A light as written in a group, before the group's transform is known.
