@@ -145,10 +145,25 @@ pub fn render(
     count: bool,
     progress: Option<&indicatif::ProgressBar>,
 ) -> RenderOutput {
+    render_until(scene, settings, count, progress, &|| false)
+        .expect("a render nothing stops runs to the end")
+}
+
+/// [`render`], but `stop()` is asked before each tile: once it says yes, the remaining tiles
+/// are skipped and there is no image (`None`). Progressive rendering
+/// ([`super::progressive`]) stops a pass this way when its time is up or its caller cancels.
+/// Ctrl-C ([`crate::interrupt`]) skips the tiles as well, but still returns an (empty) output.
+pub fn render_until(
+    scene: &Scene,
+    settings: &RenderSettings,
+    count: bool,
+    progress: Option<&indicatif::ProgressBar>,
+    stop: &(dyn Fn() -> bool + Sync),
+) -> Option<RenderOutput> {
     if count {
-        render_with::<Counter>(scene, settings, progress)
+        render_with::<Counter>(scene, settings, progress, stop)
     } else {
-        render_with::<NoRecorder>(scene, settings, progress)
+        render_with::<NoRecorder>(scene, settings, progress, stop)
     }
 }
 
@@ -170,8 +185,10 @@ fn render_with<R: Tally>(
     scene: &Scene,
     settings: &RenderSettings,
     progress: Option<&indicatif::ProgressBar>,
-) -> RenderOutput {
+    stop: &(dyn Fn() -> bool + Sync),
+) -> Option<RenderOutput> {
     let (w, h) = (scene.camera.width, scene.camera.height);
+    let stopped = std::sync::atomic::AtomicBool::new(false);
     let start = Instant::now();
     /// One tile's samples and counts, pixel by pixel in the tile's own row-major order,
     /// and its first non-finite sample.
@@ -186,6 +203,10 @@ fn render_with<R: Tally>(
         .map(|tile| {
             if crate::interrupt::requested() {
                 // Ctrl-C: skip the remaining tiles; the caller writes nothing.
+                return (Vec::new(), Vec::new(), None);
+            }
+            if stopped.load(std::sync::atomic::Ordering::Relaxed) || stop() {
+                stopped.store(true, std::sync::atomic::Ordering::Relaxed);
                 return (Vec::new(), Vec::new(), None);
             }
             let mut samples = Vec::with_capacity(tile.len());
@@ -212,9 +233,12 @@ fn render_with<R: Tally>(
         })
         .collect();
     let trace_seconds = start.elapsed().as_secs_f64();
+    if stopped.into_inner() {
+        return None;
+    }
     if crate::interrupt::requested() {
         // Some tiles were skipped: there is no image to reconstruct (and none will be written).
-        return RenderOutput {
+        return Some(RenderOutput {
             image: Image {
                 width: w,
                 height: h,
@@ -224,7 +248,7 @@ fn render_with<R: Tally>(
             trace_seconds,
             first_nan: None,
             spp_map: None,
-        };
+        });
     }
 
     // The first in row-major order (a tile's own first is its first in that order too).
@@ -262,7 +286,7 @@ fn render_with<R: Tally>(
             })
         })
         .collect();
-    RenderOutput {
+    Some(RenderOutput {
         image: Image {
             width: w,
             height: h,
@@ -272,7 +296,7 @@ fn render_with<R: Tally>(
         trace_seconds,
         first_nan,
         spp_map,
-    }
+    })
 }
 
 // ANCHOR: reconstruct
