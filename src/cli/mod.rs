@@ -14,7 +14,7 @@ pub mod schema;
 pub mod steps;
 pub mod validate;
 
-use crate::accel::AccelKind;
+use crate::accel::{AccelKind, Traversal};
 use crate::error::{Error, Result};
 use crate::scene::{check_size, Encoding, FilterKind, SamplerKind, Scene};
 use clap::{Parser, Subcommand};
@@ -119,6 +119,10 @@ pub struct RenderArgs {
     /// Acceleration: linear (the lecture's loop over every object) or bvh.
     #[arg(long, value_name = "linear|bvh")]
     pub accel: Option<String>,
+    /// How camera rays walk the BVH: single (one at a time) or bundle (4×4 neighbouring rays
+    /// together). The same image either way.
+    #[arg(long, value_name = "single|bundle")]
+    pub traversal: Option<String>,
     /// Turn off shadow rays.
     #[arg(long)]
     pub no_shadows: bool,
@@ -214,6 +218,14 @@ impl RenderArgs {
                 )
             })?;
         }
+        if let Some(t) = &self.traversal {
+            Traversal::parse(t).ok_or_else(|| {
+                Error::arg(
+                    "--traversal",
+                    format!("unknown traversal \"{t}\" (expected single or bundle)"),
+                )
+            })?;
+        }
         if let Some(d) = self.max_depth {
             if d > crate::scene::native_max_depth() {
                 return Err(Error::arg(
@@ -261,6 +273,9 @@ impl RenderArgs {
             } else {
                 Encoding::Clamp
             };
+        }
+        if let Some(t) = &self.traversal {
+            r.traversal = Traversal::parse(t).expect("checked");
         }
         r.shadows &= !self.no_shadows;
         r.reflections &= !self.no_reflections;

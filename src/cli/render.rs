@@ -5,6 +5,7 @@ use crate::error::{Error, Result};
 use crate::output::{check_png, write_png};
 use crate::sampling::aov::{render_aov, Aov};
 use crate::sampling::progressive::{describe, pass_settings, progressive, Pass};
+use crate::accel::{Traversal, BUNDLE};
 use crate::sampling::render;
 use serde_json::json;
 use std::io::IsTerminal;
@@ -225,11 +226,27 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
     if let (Some(format), Some(stats)) = (stats_format, &result.stats) {
         let trace = result.trace_seconds;
         let mrays = stats.rays.total as f64 / trace.max(1e-9) / 1e6;
+        let b = stats.bundles;
+        let traversal = match scene.render.traversal {
+            Traversal::Single => "single",
+            Traversal::Bundle => "bundle",
+        };
+        let per_bundle = b.opened as f64 / b.bundles.max(1) as f64;
+        let bundles = (b.bundles > 0).then(|| {
+            json!({
+                "count": b.bundles,
+                "nodes_opened": b.opened,
+                "nodes_opened_per_bundle": per_bundle,
+            })
+        });
         if format == "json" {
             let v = json!({
                 "rays": stats.rays,
                 "tests": stats.tests,
                 "bvh_nodes": stats.nodes,
+                "bvh_nodes_per_ray": stats.nodes as f64 / stats.rays.total.max(1) as f64,
+                "traversal": traversal,
+                "bundles": bundles,
                 "seconds": {"load": load, "build": build, "trace": trace},
                 "mrays_per_s": mrays,
                 "width": scene.camera.width,
@@ -246,9 +263,19 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
             )?;
         } else {
             let r = stats.rays;
+            let bundle_line = if b.bundles > 0 {
+                format!(
+                    "camera rays in {} bundles of up to {BUNDLE}: {:.1} nodes opened per bundle \
+                     (each once for all its rays)\n",
+                    b.bundles, per_bundle
+                )
+            } else {
+                String::new()
+            };
             eprintln!(
                 "rays: {} camera, {} shadow, {} reflection, {} refraction, {} total\n\
-                 intersection tests: {}, BVH nodes visited: {}\n\
+                 intersection tests: {}, BVH nodes visited: {} ({:.1} per ray, {traversal} traversal)\n\
+                 {bundle_line}\
                  time: load {:.3} s, build {:.3} s, trace {:.3} s ({:.2} Mrays/s)",
                 r.camera,
                 r.shadow,
@@ -257,6 +284,7 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
                 r.total,
                 stats.tests,
                 stats.nodes,
+                stats.nodes as f64 / r.total.max(1) as f64,
                 load,
                 build,
                 trace,

@@ -1,6 +1,8 @@
 use super::{sample_pixel, Filter, PixelSample};
 use crate::scene::{Encoding, RenderSettings, Scene};
-use crate::trace::{trace_sample, Counter, NoRecorder, RayCounts, Recorder};
+use super::bundles::{tile_camera_rays, BundleTally};
+use crate::accel::Traversal;
+use crate::trace::{camera_ray, trace_camera, Counter, NoRecorder, RayCounts, Recorder};
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 use std::time::Instant;
@@ -61,6 +63,8 @@ pub struct RenderStats {
     pub pixel_nodes: Vec<u64>,
     /// Intersection tests per pixel (objects, and faces inside meshes), row-major.
     pub pixel_tests: Vec<u64>,
+    /// Bundles of camera rays traced (`--traversal bundle`) and the nodes they opened.
+    pub bundles: BundleTally,
 }
 
 pub struct RenderOutput {
@@ -196,26 +200,38 @@ fn render_with<R: Tally>(
         Vec<Vec<PixelSample>>,
         Vec<Option<(RayCounts, u64, u64)>>,
         Option<(u32, u32, u32)>,
+        BundleTally,
     );
+    let bundled = settings.traversal == Traversal::Bundle;
     let tiles = tiles(w, h);
     let traced: Vec<Traced> = tiles
         .par_iter()
         .map(|tile| {
             if crate::interrupt::requested() {
                 // Ctrl-C: skip the remaining tiles; the caller writes nothing.
-                return (Vec::new(), Vec::new(), None);
+                return (Vec::new(), Vec::new(), None, BundleTally::default());
             }
             if stopped.load(std::sync::atomic::Ordering::Relaxed) || stop() {
                 stopped.store(true, std::sync::atomic::Ordering::Relaxed);
-                return (Vec::new(), Vec::new(), None);
+                return (Vec::new(), Vec::new(), None, BundleTally::default());
             }
+            let mut tally = BundleTally::default();
+            // Bundles: every camera ray of the tile, its closest hit already found.
+            let mut cameras = bundled
+                .then(|| tile_camera_rays(scene, settings, tile, &mut tally))
+                .flatten();
             let mut samples = Vec::with_capacity(tile.len());
             let mut stats = Vec::with_capacity(tile.len());
             let mut nan = None;
-            for (x, y) in tile.pixels() {
+            for (local, (x, y)) in tile.pixels().enumerate() {
                 let mut rec = R::default();
                 let px = sample_pixel(settings, w, h, x, y, |k, film| {
-                    let r = trace_sample(scene, settings, x, y, k, film, &mut rec);
+                    let camera = cameras
+                        .as_mut()
+                        .and_then(|c| c[local][k as usize].take())
+                        .unwrap_or_else(|| camera_ray(scene, settings, x, y, k, film));
+                    debug_assert_eq!(camera.generation.film, film);
+                    let r = trace_camera(scene, settings, camera, &mut rec);
                     if r.color.is_finite() {
                         r.color
                     } else {
@@ -229,7 +245,7 @@ fn render_with<R: Tally>(
             if let Some(p) = progress {
                 p.inc(tile.len() as u64);
             }
-            (samples, stats, nan)
+            (samples, stats, nan, tally)
         })
         .collect();
     let trace_seconds = start.elapsed().as_secs_f64();
@@ -265,6 +281,11 @@ fn render_with<R: Tally>(
         st.cost.push(s.1 + s.2);
         st.pixel_tests.push(s.1);
         st.pixel_nodes.push(s.2);
+    }
+    if let Some(st) = stats.as_mut() {
+        for t in &traced {
+            st.bundles.add(&t.3);
+        }
     }
     let grid: Vec<&Vec<PixelSample>> = row_major_order(w, h)
         .map(|(t, l)| &traced[t].0[l])

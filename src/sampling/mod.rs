@@ -1,6 +1,7 @@
 //! Where samples go in a pixel, how they are weighted back into pixels, and the film.
 
 pub mod aov;
+pub mod bundles;
 mod film;
 mod filter;
 pub mod progressive;
@@ -12,4 +13,4 @@ pub use film::{
     RenderStats,
 };
 pub use filter::Filter;
-pub use sampler::{pixel_samples, sample_pixel, traces_samples, validate_spp, PixelSample};
+pub use sampler::{pixel_samples, planned_films, sample_pixel, traces_samples, validate_spp, PixelSample};

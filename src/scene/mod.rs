@@ -124,6 +124,9 @@ pub struct RenderSettings {
     /// Light only by directional lights (the course's Intersect stage does): the others are
     /// still evaluated, unshadowed, and reported as ignored, but add nothing to the colour.
     pub directional_only: bool,
+    /// How camera rays walk the BVHs: one by one or in bundles of 16 (`--traversal`; the
+    /// image is the same either way).
+    pub traversal: crate::accel::Traversal,
 }
 
 impl Default for RenderSettings {
@@ -151,6 +154,7 @@ impl Default for RenderSettings {
             subsample: 1,
             adaptive_threshold: 0.1,
             directional_only: false,
+            traversal: crate::accel::Traversal::Single,
         }
     }
 }

@@ -13,4 +13,4 @@ mod whitted;
 pub use counter::{CountObserver, Counter, RayCounts};
 pub use recorder::{End, HitInfo, NoRecorder, RayKind, Recorder};
 pub use tree::{HitNode, LightNode, RayNode, ShadingNode, TestNode, TreeRecorder};
-pub use whitted::{trace_sample, SampleResult, Tracer};
+pub use whitted::{camera_ray, trace_camera, trace_sample, CameraRay, Found, SampleResult, Tracer};

@@ -2,6 +2,7 @@
 
 mod accel;
 mod book;
+mod bundle;
 mod common;
 mod cs1230;
 mod csg;
