@@ -27,7 +27,7 @@ const MAX_DEPTH: usize = 60;
 pub const WIDTH: usize = 4;
 /// Opening a node pushes at most WIDTH children and pops one, and the wide tree is no deeper
 /// than the binary one.
-const STACK: usize = (WIDTH - 1) * MAX_DEPTH + WIDTH;
+pub(super) const STACK: usize = (WIDTH - 1) * MAX_DEPTH + WIDTH;
 /// Cost of visiting a node relative to testing one primitive, for the SAH's leaf-or-split
 /// decision.
 const TRAVERSAL_COST: f32 = 1.0;
@@ -123,7 +123,7 @@ impl Node {
     /// starting exactly on its plane makes 0·∞ = NaN; `max(t, near)` and `min(t, far)` keep
     /// `near` and `far` when `t` is NaN, which leaves that axis unconstrained.
     #[inline(always)]
-    fn enter(&self, r: &RayBox, t_min: f32, t_max: f32) -> (u32, [f32; WIDTH]) {
+    pub(super) fn enter(&self, r: &RayBox, t_min: f32, t_max: f32) -> (u32, [f32; WIDTH]) {
         let mut near = FW::splat(t_min);
         let mut far = FW::splat(t_max);
         for k in 0..3 {
@@ -152,7 +152,7 @@ impl Node {
 /// are the three f32 roundings of (plane − o′)·(1/d) itself (the subtraction, 1/d, the
 /// product): relative errors, covered by widening by [`GAMMA5`]·|t|.
 #[derive(Debug, Clone, Copy)]
-struct RayBox {
+pub(super) struct RayBox {
     origin_in: [f32; 3],
     origin_out: [f32; 3],
     inv: [f32; 3],
@@ -165,7 +165,7 @@ const GAMMA5: f32 = 5.0 * (f32::EPSILON * 0.5) / (1.0 - 5.0 * (f32::EPSILON * 0.
 
 impl RayBox {
     #[inline(always)]
-    fn new(ray: &Ray) -> RayBox {
+    pub(super) fn new(ray: &Ray) -> RayBox {
         let inv = ray.dir.recip().to_array();
         let o = ray.origin.to_array();
         let neg = inv.map(|x| x < 0.0);
@@ -325,7 +325,7 @@ fn bracket(x: f64) -> (f32, f32) {
 }
 
 /// The largest f32 not above x.
-fn down(x: f64) -> f32 {
+pub(super) fn down(x: f64) -> f32 {
     let f = x as f32;
     if f as f64 > x {
         f.next_down()
@@ -335,7 +335,7 @@ fn down(x: f64) -> f32 {
 }
 
 /// The smallest f32 not below x.
-fn up(x: f64) -> f32 {
+pub(super) fn up(x: f64) -> f32 {
     let f = x as f32;
     if (f as f64) < x {
         f.next_up()

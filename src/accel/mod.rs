@@ -2,8 +2,10 @@
 //! ([`AccelKind::Linear`]) or a bounding volume hierarchy over the objects' world bounds
 //! ([`AccelKind::Bvh`], meshes carrying their own BVH over their triangles inside).
 
+mod bundle;
 mod bvh;
 
+pub use bundle::{BundleWork, BUNDLE};
 pub use bvh::{Bvh, Node};
 
 use crate::math::Ray;
@@ -25,6 +27,34 @@ impl AccelKind {
             _ => None,
         }
     }
+}
+
+/// How camera rays walk the acceleration structures: one at a time, or in bundles of
+/// [`BUNDLE`] neighbours ([`Accel::closest_bundle`]). The image is the same either way.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Traversal {
+    Single,
+    Bundle,
+}
+
+impl Traversal {
+    pub fn parse(s: &str) -> Option<Traversal> {
+        match s {
+            "single" => Some(Traversal::Single),
+            "bundle" => Some(Traversal::Bundle),
+            _ => None,
+        }
+    }
+}
+
+/// What a bundle of camera rays cost: the nodes it opened (once for the bundle), and per
+/// ray the intersection tests (objects and faces) and nodes it was slab-tested at, as
+/// [`crate::trace::Counter`] counts them for a single ray.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct BundleCost {
+    pub opened: u32,
+    pub tests: [u32; BUNDLE],
+    pub nodes: [u32; BUNDLE],
 }
 
 /// The acceleration structure of a scene.
@@ -175,6 +205,40 @@ impl Accel {
     }
     // ANCHOR_END: closest
 
+    // ANCHOR: closest_bundle
+    /// [`Accel::closest`] for each of up to [`BUNDLE`] rays (t in [t_min, ∞)), the rays
+    /// walking the scene's BVH and each mesh's BVH together. Same tie rule (closest, then
+    /// lower object index), so the same answers; `cost` gets what it took.
+    pub fn closest_bundle(
+        &self,
+        objects: &[Object],
+        rays: &[Ray],
+        t_min: f64,
+        cost: &mut BundleCost,
+    ) -> [Option<(usize, LocalHit)>; BUNDLE] {
+        let all = if rays.len() >= 32 { u32::MAX } else { (1u32 << rays.len()) - 1 };
+        let mut best: [Option<(usize, LocalHit)>; BUNDLE] = [None; BUNDLE];
+        let mut t_max = [f64::INFINITY; BUNDLE];
+        for &i in &self.unbounded {
+            test_object_bundle(objects, i, rays, all, t_min, &mut t_max, &mut best, cost);
+        }
+        if self.bvh.nodes.is_empty() {
+            return best;
+        }
+        let mut work = BundleWork::default();
+        self.bvh
+            .closest_bundle(rays, all, t_min, &mut t_max, &mut work, |k, mask, t_max| {
+                let i = self.bounded[self.bvh.prims[k] as usize];
+                test_object_bundle(objects, i, rays, mask, t_min, t_max, &mut best, cost);
+            });
+        cost.opened += work.opened;
+        for (n, w) in cost.nodes.iter_mut().zip(work.ray_nodes) {
+            *n += w;
+        }
+        best
+    }
+    // ANCHOR_END: closest_bundle
+
     // ANCHOR: occluded
     /// Any hit with t in [t_min, t_max] (shadow rays): the first object found, not the
     /// closest, and inside a mesh the first face found.
@@ -204,6 +268,55 @@ impl Accel {
         found
     }
     // ANCHOR_END: occluded
+}
+
+/// Tests object `i` against the rays of a bundle in `mask` (each within [t_min, t_max[r]]),
+/// keeping each ray's best by [`precedes`]. A mesh takes the rays through its own BVH
+/// together; any other shape tests them one by one with its own routine.
+#[allow(clippy::too_many_arguments)]
+fn test_object_bundle(
+    objects: &[Object],
+    i: usize,
+    rays: &[Ray],
+    mask: u32,
+    t_min: f64,
+    t_max: &mut [f64; BUNDLE],
+    best: &mut [Option<(usize, LocalHit)>; BUNDLE],
+    cost: &mut BundleCost,
+) {
+    let object = &objects[i];
+    let n = rays.len();
+    let local: [Ray; BUNDLE] =
+        std::array::from_fn(|r| object.transform.ray_to_object(&rays[r.min(n - 1)]));
+    let hits: [Option<LocalHit>; BUNDLE] = match &object.shape {
+        crate::shapes::Shape::Mesh(m) => {
+            let mut work = BundleWork::default();
+            let h = m.intersect_bundle(&local[..n], mask, t_min, *t_max, &mut work, &mut cost.tests);
+            cost.opened += work.opened;
+            for (c, w) in cost.nodes.iter_mut().zip(work.ray_nodes) {
+                *c += w;
+            }
+            h
+        }
+        shape => std::array::from_fn(|r| {
+            (mask >> r & 1 == 1).then(|| {
+                shape.intersect(&local[r], t_min, t_max[r], &mut crate::shapes::NoObserver)
+            })?
+        }),
+    };
+    let mut m = mask;
+    while m != 0 {
+        let r = m.trailing_zeros() as usize;
+        m &= m - 1;
+        cost.tests[r] += 1;
+        if let Some(h) = hits[r] {
+            let key = best[r].as_ref().map(|(o, b)| (b.t, *o));
+            if precedes((h.t, i), key) {
+                t_max[r] = h.t;
+                best[r] = Some((i, h));
+            }
+        }
+    }
 }
 
 /// Does a hit (t, object index) come before the best so far? Closer first; on equal t the

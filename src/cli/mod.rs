@@ -14,7 +14,7 @@ pub mod schema;
 pub mod steps;
 pub mod validate;
 
-use crate::accel::AccelKind;
+use crate::accel::{AccelKind, Traversal};
 use crate::error::{Error, Result};
 use crate::scene::{check_size, CourseStage, Encoding, FilterKind, Loaded, SamplerKind, Scene};
 use crate::shading::TextureFilter;
@@ -120,6 +120,10 @@ pub struct RenderArgs {
     /// Acceleration: linear (the lecture's loop over every object) or bvh.
     #[arg(long, value_name = "linear|bvh")]
     pub accel: Option<String>,
+    /// How camera rays walk the BVH: single (one at a time) or bundle (4×4 neighbouring rays
+    /// together). The same image either way.
+    #[arg(long, value_name = "single|bundle")]
+    pub traversal: Option<String>,
     /// Turn off shadow rays.
     #[arg(long)]
     pub no_shadows: bool,
@@ -291,6 +295,14 @@ impl RenderArgs {
                 )
             })?;
         }
+        if let Some(t) = &self.traversal {
+            Traversal::parse(t).ok_or_else(|| {
+                Error::arg(
+                    "--traversal",
+                    format!("unknown traversal \"{t}\" (expected single or bundle)"),
+                )
+            })?;
+        }
         if let Some(d) = self.max_depth {
             if d > crate::scene::native_max_depth() {
                 return Err(Error::arg(
@@ -360,6 +372,9 @@ impl RenderArgs {
         set(&mut r.depth_of_field, self.depth_of_field, self.no_depth_of_field);
         if let Some(f) = &self.texture_filter {
             r.texture_filter = TextureFilter::parse(f).expect("checked");
+        }
+        if let Some(t) = &self.traversal {
+            r.traversal = Traversal::parse(t).expect("checked");
         }
         let (w, h) = (
             self.width.unwrap_or(scene.camera.width),

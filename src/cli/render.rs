@@ -4,6 +4,8 @@ use super::{default_output, RenderArgs};
 use crate::error::{Error, Result};
 use crate::output::{check_png, write_png};
 use crate::sampling::aov::{render_aov, Aov};
+use crate::sampling::progressive::{describe, pass_settings, progressive, Pass};
+use crate::accel::{Traversal, BUNDLE};
 use crate::sampling::render;
 use serde_json::json;
 use std::io::IsTerminal;
@@ -32,6 +34,49 @@ pub struct Args {
     /// object-id, ambient, diffuse, specular, reflection, transmission, shadow, ray-depth, cost.
     #[arg(long, value_name = "NAME")]
     pub aov: Option<String>,
+    /// Progressive rendering: write pass K of the sequence (1: subsampled preview, 2: the
+    /// scene's settings, k > 2: 4^(k-2) times its samples per pixel). Only pass K is traced.
+    #[arg(long, value_name = "K")]
+    pub passes: Option<u32>,
+    /// Progressive rendering for about this long: passes 1, 2, 3, ... until the time is
+    /// spent; writes the last complete pass (the same bytes as --passes K, K printed).
+    #[arg(long, value_name = "SECONDS")]
+    pub time_budget: Option<f64>,
+}
+
+/// The settings of progressive pass `k`, or an argument error saying why it cannot be made.
+fn pass_of(scene: &crate::scene::Scene, k: u32) -> Result<crate::scene::RenderSettings> {
+    let (w, h) = (scene.camera.width, scene.camera.height);
+    pass_settings(&scene.render, w, h, k).map_err(|m| Error::arg("--passes", m))
+}
+
+/// Passes 1, 2, ... until `budget` seconds have gone (the first pass always completes) or
+/// `max` passes are done; says on stderr when each pass is complete (unless quiet).
+fn budgeted(
+    scene: &crate::scene::Scene,
+    budget: f64,
+    max: Option<u32>,
+    count: bool,
+    quiet: bool,
+) -> Option<Pass> {
+    let deadline = Instant::now() + std::time::Duration::from_secs_f64(budget.min(1e9));
+    progressive(
+        scene,
+        &scene.render,
+        count,
+        max,
+        &|k| k > 1 && Instant::now() >= deadline,
+        |p| {
+            if !quiet {
+                eprintln!(
+                    "pass {}: {} done at {:.2} s",
+                    p.index,
+                    describe(&p.settings),
+                    p.finished
+                );
+            }
+        },
+    )
 }
 
 /// Runs `f` on a thread pool of `threads` workers (or rayon's default).
@@ -72,6 +117,23 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
             )
         })?),
     };
+    if args.passes == Some(0) {
+        return Err(Error::arg("--passes", "passes are numbered from 1"));
+    }
+    if let Some(t) = args.time_budget {
+        if !(t.is_finite() && t > 0.0) {
+            return Err(Error::arg(
+                "--time-budget",
+                format!("{t} is not a time (expected seconds > 0, e.g. 2.5)"),
+            ));
+        }
+        if aov.is_some() {
+            return Err(Error::arg(
+                "--time-budget",
+                "cannot be combined with --aov (use --passes K for an AOV of pass K)",
+            ));
+        }
+    }
     let suffix = aov.map(|a| format!("-{}", a.name())).unwrap_or_default();
     if let Some(o) = &args.output {
         check_png(o, "-o")?;
@@ -110,9 +172,13 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
         check_png(&out, "-o")?;
     }
     render_args.warn(&loaded.warnings);
-    let scene = loaded.scene;
+    let mut scene = loaded.scene;
     if let Some(aov) = aov {
-        let img = with_threads(args.threads, || render_aov(&scene, &scene.render, aov))?;
+        let settings = match args.passes {
+            Some(k) => pass_of(&scene, k)?,
+            None => scene.render.clone(),
+        };
+        let img = with_threads(args.threads, || render_aov(&scene, &settings, aov))?;
         write_png(&out, &img.image)?;
         if !args.quiet {
             eprintln!("{}", img.legend);
@@ -122,6 +188,9 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
     }
     args.render
         .check_memory(&scene, &args.scene, scene.render.spp)?;
+    if let (Some(k), None) = (args.passes, args.time_budget) {
+        scene.render = pass_of(&scene, k)?;
+    }
     let load = t0.elapsed().as_secs_f64();
     // The accelerators (scene level and each mesh's) are built during load; build them once
     // more to time them for the stats.
@@ -153,9 +222,26 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
         bar.enable_steady_tick(std::time::Duration::from_millis(200));
         bar
     });
-    let result = with_threads(args.threads, || {
-        render(&scene, &scene.render, stats_format.is_some(), bar.as_ref())
-    })?;
+    // The pass a budgeted render reached (number, spp), for the stats.
+    let mut reached = args.passes.map(|k| (k, scene.render.spp));
+    let result = if let Some(budget) = args.time_budget {
+        let pass = with_threads(args.threads, || {
+            budgeted(&scene, budget, args.passes, stats_format.is_some(), args.quiet)
+        })?;
+        crate::interrupt::check()?;
+        let pass = pass.ok_or_else(|| Error::Other("no pass was completed".into()))?;
+        eprintln!(
+            "passes: {k} ({}); the same image: --passes {k}",
+            describe(&pass.settings),
+            k = pass.index
+        );
+        reached = Some((pass.index, pass.settings.spp));
+        pass.output
+    } else {
+        with_threads(args.threads, || {
+            render(&scene, &scene.render, stats_format.is_some(), bar.as_ref())
+        })?
+    };
     if let Some(b) = bar {
         b.finish_and_clear();
     }
@@ -180,19 +266,38 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
     }
     write_png(&out, &result.image.to_rgb8(scene.render.encoding))?;
 
+    let spp = reached.map_or(scene.render.spp, |r| r.1);
+    let passes = reached.map(|r| json!(r.0));
     if let (Some(format), Some(stats)) = (stats_format, &result.stats) {
         let trace = result.trace_seconds;
         let mrays = stats.rays.total as f64 / trace.max(1e-9) / 1e6;
+        let b = stats.bundles;
+        let traversal = match scene.render.traversal {
+            Traversal::Single => "single",
+            Traversal::Bundle => "bundle",
+        };
+        let per_bundle = b.opened as f64 / b.bundles.max(1) as f64;
+        let bundles = (b.bundles > 0).then(|| {
+            json!({
+                "count": b.bundles,
+                "nodes_opened": b.opened,
+                "nodes_opened_per_bundle": per_bundle,
+            })
+        });
         if format == "json" {
             let v = json!({
                 "rays": stats.rays,
                 "tests": stats.tests,
                 "bvh_nodes": stats.nodes,
+                "bvh_nodes_per_ray": stats.nodes as f64 / stats.rays.total.max(1) as f64,
+                "traversal": traversal,
+                "bundles": bundles,
                 "seconds": {"load": load, "build": build, "trace": trace},
                 "mrays_per_s": mrays,
                 "width": scene.camera.width,
                 "height": scene.camera.height,
-                "spp": scene.render.spp,
+                "spp": spp,
+                "passes": passes,
                 "output": out.display().to_string(),
             });
             super::emit(
@@ -203,9 +308,19 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
             )?;
         } else {
             let r = stats.rays;
+            let bundle_line = if b.bundles > 0 {
+                format!(
+                    "camera rays in {} bundles of up to {BUNDLE}: {:.1} nodes opened per bundle \
+                     (each once for all its rays)\n",
+                    b.bundles, per_bundle
+                )
+            } else {
+                String::new()
+            };
             eprintln!(
                 "rays: {} camera, {} shadow, {} reflection, {} refraction, {} total\n\
-                 intersection tests: {}, BVH nodes visited: {}\n\
+                 intersection tests: {}, BVH nodes visited: {} ({:.1} per ray, {traversal} traversal)\n\
+                 {bundle_line}\
                  time: load {:.3} s, build {:.3} s, trace {:.3} s ({:.2} Mrays/s)",
                 r.camera,
                 r.shadow,
@@ -214,6 +329,7 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
                 r.total,
                 stats.tests,
                 stats.nodes,
+                stats.nodes as f64 / r.total.max(1) as f64,
                 load,
                 build,
                 trace,

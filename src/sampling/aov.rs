@@ -10,7 +10,8 @@ use super::{pixel_samples, render_reconstruct, Filter};
 use crate::math::Ray;
 use crate::scene::{Encoding, RenderSettings, Scene};
 use crate::shading::{LightTerm, Shading};
-use crate::trace::{trace_sample, CountObserver, End, HitInfo, RayKind, Recorder};
+use crate::accel::Traversal;
+use crate::trace::{camera_ray, trace_camera, CameraRay, CountObserver, End, HitInfo, RayKind, Recorder};
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
@@ -259,6 +260,9 @@ impl Recorder for AovRecorder {
     fn nodes_visited(&mut self, n: u32) {
         self.sample.cost += n as u64;
     }
+    fn bundled(&mut self, tests: u32, nodes: u32) {
+        self.sample.cost += tests as u64 + nodes as u64;
+    }
     fn hit(&mut self, hit: &HitInfo) {
         if self.open == 1 {
             self.sample.hit = Some(AovHit {
@@ -321,14 +325,46 @@ pub fn trace_aov_samples(scene: &Scene, settings: &RenderSettings) -> AovSamples
         .into_par_iter()
         .map(|y| {
             let mut rec = AovRecorder::default();
+            let films: Vec<Vec<DVec2>> = (0..w)
+                .map(|x| pixel_samples(settings.sampler, settings.spp, settings.seed, x, y))
+                .collect();
+            // Bundles: runs of 16 neighbours in the row, sample index by sample index.
+            let mut cameras: Option<Vec<Vec<Option<CameraRay>>>> =
+                (settings.traversal == Traversal::Bundle).then(|| {
+                    let most = films.iter().map(Vec::len).max().unwrap_or(0);
+                    let samples: Vec<(u32, u32, u32, DVec2)> = (0..most)
+                        .flat_map(|k| {
+                            let films = &films;
+                            (0..w).filter_map(move |x| {
+                                films[x as usize].get(k).map(|&f| (x, y, k as u32, f))
+                            })
+                        })
+                        .collect();
+                    let mut grid: Vec<Vec<Option<CameraRay>>> =
+                        films.iter().map(|f| vec![None; f.len()]).collect();
+                    let rays = super::bundles::camera_rays(
+                        scene,
+                        settings,
+                        &samples,
+                        &mut Default::default(),
+                    );
+                    for (s, cam) in samples.iter().zip(rays) {
+                        grid[s.0 as usize][s.2 as usize] = Some(cam);
+                    }
+                    grid
+                });
             (0..w)
                 .map(|x| {
-                    pixel_samples(settings.sampler, settings.spp, settings.seed, x, y)
-                        .into_iter()
+                    films[x as usize]
+                        .iter()
                         .enumerate()
-                        .map(|(k, film)| {
+                        .map(|(k, &film)| {
                             rec.reset();
-                            trace_sample(scene, settings, x, y, k as u32, film, &mut rec);
+                            let camera = cameras
+                                .as_mut()
+                                .and_then(|c| c[x as usize][k].take())
+                                .unwrap_or_else(|| camera_ray(scene, settings, x, y, k as u32, film));
+                            trace_camera(scene, settings, camera, &mut rec);
                             (film, rec.take())
                         })
                         .collect()

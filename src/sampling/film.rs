@@ -1,6 +1,8 @@
 use super::{sample_pixel, Filter, PixelSample};
 use crate::scene::{Encoding, RenderSettings, Scene};
-use crate::trace::{trace_sample, Counter, NoRecorder, RayCounts, Recorder};
+use super::bundles::{tile_camera_rays, BundleTally};
+use crate::accel::Traversal;
+use crate::trace::{camera_ray, trace_camera, Counter, NoRecorder, RayCounts, Recorder};
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 use std::time::Instant;
@@ -61,6 +63,8 @@ pub struct RenderStats {
     pub pixel_nodes: Vec<u64>,
     /// Intersection tests per pixel (objects, and faces inside meshes), row-major.
     pub pixel_tests: Vec<u64>,
+    /// Bundles of camera rays traced (`--traversal bundle`) and the nodes they opened.
+    pub bundles: BundleTally,
 }
 
 pub struct RenderOutput {
@@ -152,10 +156,25 @@ pub fn render(
     count: bool,
     progress: Option<&indicatif::ProgressBar>,
 ) -> RenderOutput {
+    render_until(scene, settings, count, progress, &|| false)
+        .expect("a render nothing stops runs to the end")
+}
+
+/// [`render`], but `stop()` is asked before each tile: once it says yes, the remaining tiles
+/// are skipped and there is no image (`None`). Progressive rendering
+/// ([`super::progressive`]) stops a pass this way when its time is up or its caller cancels.
+/// Ctrl-C ([`crate::interrupt`]) skips the tiles as well, but still returns an (empty) output.
+pub fn render_until(
+    scene: &Scene,
+    settings: &RenderSettings,
+    count: bool,
+    progress: Option<&indicatif::ProgressBar>,
+    stop: &(dyn Fn() -> bool + Sync),
+) -> Option<RenderOutput> {
     if count {
-        render_with::<Counter>(scene, settings, progress)
+        render_with::<Counter>(scene, settings, progress, stop)
     } else {
-        render_with::<NoRecorder>(scene, settings, progress)
+        render_with::<NoRecorder>(scene, settings, progress, stop)
     }
 }
 
@@ -177,8 +196,10 @@ fn render_with<R: Tally>(
     scene: &Scene,
     settings: &RenderSettings,
     progress: Option<&indicatif::ProgressBar>,
-) -> RenderOutput {
+    stop: &(dyn Fn() -> bool + Sync),
+) -> Option<RenderOutput> {
     let (w, h) = (scene.camera.width, scene.camera.height);
+    let stopped = std::sync::atomic::AtomicBool::new(false);
     let start = Instant::now();
     /// One tile's samples and counts, pixel by pixel in the tile's own row-major order,
     /// its first non-finite sample, and its samples the ray budget cut (count, first).
@@ -187,23 +208,39 @@ fn render_with<R: Tally>(
         Vec<Option<(RayCounts, u64, u64)>>,
         Option<(u32, u32, u32)>,
         (u64, Option<(u32, u32, u32)>),
+        BundleTally,
     );
+    let bundled = settings.traversal == Traversal::Bundle;
     let tiles = tiles(w, h);
     let traced: Vec<Traced> = tiles
         .par_iter()
         .map(|tile| {
+            if stopped.load(std::sync::atomic::Ordering::Relaxed) || stop() {
+                stopped.store(true, std::sync::atomic::Ordering::Relaxed);
+                return (Vec::new(), Vec::new(), None, (0, None), BundleTally::default());
+            }
+            let mut tally = BundleTally::default();
+            // Bundles: every camera ray of the tile, its closest hit already found.
+            let mut cameras = bundled
+                .then(|| tile_camera_rays(scene, settings, tile, &mut tally))
+                .flatten();
             let mut samples = Vec::with_capacity(tile.len());
             let mut stats = Vec::with_capacity(tile.len());
             let mut nan = None;
             let mut cut = (0, None);
-            for (x, y) in tile.pixels() {
+            for (local, (x, y)) in tile.pixels().enumerate() {
                 if settings.cancel.is_cancelled() {
                     // Ctrl-C or a cancelled token: skip the rest; the caller writes nothing.
                     break;
                 }
                 let mut rec = R::default();
                 let px = sample_pixel(settings, w, h, x, y, |k, film| {
-                    let r = trace_sample(scene, settings, x, y, k, film, &mut rec);
+                    let camera = cameras
+                        .as_mut()
+                        .and_then(|c| c[local][k as usize].take())
+                        .unwrap_or_else(|| camera_ray(scene, settings, x, y, k, film));
+                    debug_assert_eq!(camera.generation.film, film);
+                    let r = trace_camera(scene, settings, camera, &mut rec);
                     if r.cut {
                         cut.0 += 1;
                         cut.1.get_or_insert((x, y, k));
@@ -222,13 +259,16 @@ fn render_with<R: Tally>(
                     p.inc(1);
                 }
             }
-            (samples, stats, nan, cut)
+            (samples, stats, nan, cut, tally)
         })
         .collect();
     let trace_seconds = start.elapsed().as_secs_f64();
+    if stopped.into_inner() {
+        return None;
+    }
     if settings.cancel.is_cancelled() {
         // Some tiles were skipped: there is no image to reconstruct (and none will be written).
-        return RenderOutput {
+        return Some(RenderOutput {
             image: Image {
                 width: w,
                 height: h,
@@ -241,7 +281,7 @@ fn render_with<R: Tally>(
             cut_samples: 0,
             first_cut: None,
             cancelled: true,
-        };
+        });
     }
 
     // The first in row-major order (a tile's own first is its first in that order too).
@@ -264,6 +304,11 @@ fn render_with<R: Tally>(
         st.pixel_tests.push(s.1);
         st.pixel_nodes.push(s.2);
     }
+    if let Some(st) = stats.as_mut() {
+        for t in &traced {
+            st.bundles.add(&t.4);
+        }
+    }
     let grid: Vec<&Vec<PixelSample>> = row_major_order(w, h)
         .map(|(t, l)| &traced[t].0[l])
         .collect();
@@ -284,7 +329,7 @@ fn render_with<R: Tally>(
             })
         })
         .collect();
-    RenderOutput {
+    Some(RenderOutput {
         image: Image {
             width: w,
             height: h,
@@ -297,7 +342,7 @@ fn render_with<R: Tally>(
         cut_samples,
         first_cut,
         cancelled: false,
-    }
+    })
 }
 
 // ANCHOR: reconstruct

@@ -129,6 +129,31 @@ fn owned_corners(x: u32, y: u32, width: u32, height: u32) -> Vec<DVec2> {
 }
 // ANCHOR_END: corners
 
+/// The film positions of the samples pixel (x, y) traces, in index order, when they are
+/// known before any is traced: every sampler but the adaptive one (`None`), which decides
+/// as it goes. Empty for a pixel `--subsample` skips. Bundles of camera rays are made from
+/// these ([`super::bundles`]), and [`sample_pixel`] traces exactly these.
+pub fn planned_films(
+    settings: &RenderSettings,
+    width: u32,
+    height: u32,
+    x: u32,
+    y: u32,
+) -> Option<Vec<DVec2>> {
+    if !traces_samples(settings, width, height, x, y) {
+        return Some(Vec::new());
+    }
+    Some(match settings.sampler {
+        SamplerKind::Adaptive => return None,
+        SamplerKind::Corners => {
+            let mut v = vec![DVec2::new(x as f64 + 0.5, y as f64 + 0.5)];
+            v.extend(owned_corners(x, y, width, height));
+            v
+        }
+        kind => pixel_samples(kind, settings.spp, settings.seed, x, y),
+    })
+}
+
 /// Traces the samples pixel (x, y) of a `width`×`height` image owns, calling `trace(index,
 /// film)` for each in index order. Fixed patterns are planned up front; the adaptive sampler
 /// decides where to look next from the colours `trace` returns, so `render` and `explain`,
@@ -141,17 +166,8 @@ pub fn sample_pixel(
     y: u32,
     mut trace: impl FnMut(u32, DVec2) -> DVec3,
 ) -> Vec<PixelSample> {
-    if !traces_samples(settings, width, height, x, y) {
-        return Vec::new();
-    }
-    let films = match settings.sampler {
-        SamplerKind::Adaptive => return adaptive(settings, x, y, trace),
-        SamplerKind::Corners => {
-            let mut v = vec![DVec2::new(x as f64 + 0.5, y as f64 + 0.5)];
-            v.extend(owned_corners(x, y, width, height));
-            v
-        }
-        kind => pixel_samples(kind, settings.spp, settings.seed, x, y),
+    let Some(films) = planned_films(settings, width, height, x, y) else {
+        return adaptive(settings, x, y, trace);
     };
     films
         .into_iter()

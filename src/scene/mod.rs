@@ -137,6 +137,9 @@ pub struct RenderSettings {
     /// object, bend out; the inner surface is not shaded and total internal reflection adds
     /// nothing. Off: rtlab's general Whitted refraction. The CS1230 loader turns it on.
     pub course_refraction: bool,
+    /// How camera rays walk the BVHs: one by one or in bundles of 16 (`--traversal`; the
+    /// image is the same either way).
+    pub traversal: crate::accel::Traversal,
 }
 
 impl Default for RenderSettings {
@@ -168,6 +171,7 @@ impl Default for RenderSettings {
             cancel: crate::interrupt::Cancel::default(),
             texture_filter: crate::shading::TextureFilter::Nearest,
             course_refraction: false,
+            traversal: crate::accel::Traversal::Single,
         }
     }
 }

@@ -1,6 +1,6 @@
 use super::triangle::interpolated_hit;
 use super::{cramer_hit_prepared, Aabb, Barycentric, LocalHit, Observer, Prepared, Triangle};
-use crate::accel::Bvh;
+use crate::accel::{BundleWork, Bvh, BUNDLE};
 use crate::math::Ray;
 use glam::{DVec2, DVec3};
 
@@ -123,11 +123,19 @@ impl Mesh {
     ) -> Option<LocalHit> {
         let mut tested = 0usize;
         let mut visited = 0u32;
+        // Equal t (a ray through an edge two faces share): the lower slot wins, whatever the
+        // order they were tested in, so a bundle of rays ([`Mesh::intersect_bundle`]) that
+        // walks the tree in another order picks the same face.
+        let mut best_k = usize::MAX;
         let found = self
             .bvh
             .closest(ray, t_min, t_max, &mut visited, |k, t_max| {
                 tested += 1;
-                cramer_hit_prepared(&self.packed[k].prepared(), ray, t_min, t_max).map(|b| (b.t, b))
+                let b = cramer_hit_prepared(&self.packed[k].prepared(), ray, t_min, t_max)?;
+                (b.t < t_max || k < best_k).then(|| {
+                    best_k = k;
+                    (b.t, b)
+                })
             });
         obs.mesh(
             tested,
@@ -158,6 +166,47 @@ impl Mesh {
         interpolated_hit(ray, b, index, geometric, normals, uvs)
     }
     // ANCHOR_END: mesh_intersect
+
+    // ANCHOR: mesh_bundle
+    /// Closest face hits of a bundle of object-space rays (bit i of `active`: ray i takes
+    /// part), each within [t_min, t_max[i]]: what [`Mesh::intersect`] gives each ray, found
+    /// by one walk of the BVH for all of them ([`Bvh::closest_bundle`]). A face reached by
+    /// several rays is prepared once and tested against each, exactly as a single ray tests
+    /// it. `work` gets the nodes; `tests[i]` the faces ray i tested.
+    pub fn intersect_bundle(
+        &self,
+        rays: &[Ray],
+        active: u32,
+        t_min: f64,
+        mut t_max: [f64; BUNDLE],
+        work: &mut BundleWork,
+        tests: &mut [u32; BUNDLE],
+    ) -> [Option<LocalHit>; BUNDLE] {
+        let mut best: [Option<(usize, Barycentric)>; BUNDLE] = [None; BUNDLE];
+        self.bvh
+            .closest_bundle(rays, active, t_min, &mut t_max, work, |k, mask, t_max| {
+                let p = self.packed[k].prepared();
+                let mut m = mask;
+                while m != 0 {
+                    let i = m.trailing_zeros() as usize;
+                    m &= m - 1;
+                    tests[i] += 1;
+                    if let Some(b) = cramer_hit_prepared(&p, &rays[i], t_min, t_max[i]) {
+                        let lower = best[i].as_ref().is_none_or(|(bk, _)| k < *bk);
+                        if b.t < t_max[i] || lower {
+                            t_max[i] = b.t;
+                            best[i] = Some((k, b));
+                        }
+                    }
+                }
+            });
+        std::array::from_fn(|i| {
+            best[i]
+                .as_ref()
+                .map(|(k, b)| self.local_hit(&rays[i], b, *k))
+        })
+    }
+    // ANCHOR_END: mesh_bundle
 
     /// Any face hit within [t_min, t_max] (shadow rays): the first one found, not the
     /// closest. Active observers (explain) get the closest hit and its full working instead,

@@ -82,4 +82,8 @@ impl Recorder for Counter {
     fn nodes_visited(&mut self, n: u32) {
         self.nodes += n as u64;
     }
+    fn bundled(&mut self, tests: u32, nodes: u32) {
+        self.tests += tests as u64;
+        self.nodes += nodes as u64;
+    }
 }

@@ -63,6 +63,11 @@ pub trait Recorder {
     fn tested(&mut self, _object: usize, _t: Option<f64>, _t_max: f64, _local_ray: &Ray) {}
     /// BVH nodes visited by one query.
     fn nodes_visited(&mut self, _n: u32) {}
+    /// A camera ray whose closest hit a bundle found ([`crate::accel::Accel::closest_bundle`]):
+    /// instead of each test and node, its share of the bundle's work, `tests` intersection
+    /// tests (objects and faces) and `nodes` BVH nodes it was slab-tested at. Only counting
+    /// recorders can follow a bundle; the others (explain) get single rays.
+    fn bundled(&mut self, _tests: u32, _nodes: u32) {}
     fn hit(&mut self, _hit: &HitInfo) {}
     /// The material colours at the hit being shaded (textures applied, switches folded in).
     fn surface(&mut self, _s: &Shading) {}

@@ -39,13 +39,69 @@ pub fn trace_sample<R: Recorder>(
     film: DVec2,
     rec: &mut R,
 ) -> SampleResult {
+    let camera = camera_ray(scene, settings, px, py, index, film);
+    trace_camera(scene, settings, camera, rec)
+}
+
+/// A sample's camera ray, made but not yet traced: the ray, how it was generated, the
+/// sample's random stream after the lens sample, and (when a bundle of camera rays already
+/// walked the scene, [`crate::sampling::bundles`]) its closest hit and what finding it cost.
+#[derive(Debug, Clone)]
+pub struct CameraRay {
+    pub ray: Ray,
+    pub generation: RayGeneration,
+    pub rng: Rng,
+    pub found: Option<Found>,
+}
+
+/// A camera ray's closest hit found in a bundle: exactly what `Accel::closest` returns for
+/// it, with its share of the work (intersection tests, nodes it was tested at).
+#[derive(Debug, Clone, Copy)]
+pub struct Found {
+    pub hit: Option<(usize, crate::shapes::LocalHit)>,
+    pub tests: u32,
+    pub nodes: u32,
+}
+
+/// The camera ray of sample `index` at `film` of pixel (`px`, `py`); its random numbers (lens,
+/// then area lights) come from (seed, pixel, sample index) alone.
+pub fn camera_ray(
+    scene: &Scene,
+    settings: &RenderSettings,
+    px: u32,
+    py: u32,
+    index: u32,
+    film: DVec2,
+) -> CameraRay {
     let mut rng = Rng::new(&[settings.seed, px as u64, py as u64, index as u64]);
     let lens = scene.camera.lens_sample(settings.depth_of_field, &mut rng);
     let (ray, generation) = scene.camera.generate(film, lens);
+    CameraRay {
+        ray,
+        generation,
+        rng,
+        found: None,
+    }
+}
+
+/// Traces a camera ray ([`camera_ray`]); with its hit already found, the recorder hears the
+/// bundle's share of the work ([`Recorder::bundled`]) instead of the walk.
+pub fn trace_camera<R: Recorder>(
+    scene: &Scene,
+    settings: &RenderSettings,
+    camera: CameraRay,
+    rec: &mut R,
+) -> SampleResult {
+    let CameraRay {
+        ray,
+        generation,
+        mut rng,
+        found,
+    } = camera;
     let tracer = Tracer::new(scene, settings);
-    let color = tracer.trace(&ray, RayKind::Camera, 0, DVec3::ONE, &mut rng, rec);
+    let color = tracer.trace_found(&ray, RayKind::Camera, 0, DVec3::ONE, &mut rng, rec, found);
     SampleResult {
-        film,
+        film: generation.film,
         color,
         generation,
         rays: tracer.budget.rays(),
@@ -75,14 +131,35 @@ impl<'a> Tracer<'a> {
         rng: &mut Rng,
         rec: &mut R,
     ) -> DVec3 {
+        self.trace_found(ray, kind, depth, weight, rng, rec, None)
+    }
+
+    /// [`Tracer::trace`], the closest hit given when a bundle found it already.
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    fn trace_found<R: Recorder>(
+        &self,
+        ray: &Ray,
+        kind: RayKind,
+        depth: u32,
+        weight: DVec3,
+        rng: &mut Rng,
+        rec: &mut R,
+        found: Option<Found>,
+    ) -> DVec3 {
         rec.begin_ray(kind, depth, ray);
         self.budget.count();
         let scene = self.scene;
-        let Some((object, local)) =
-            scene
+        let closest = match found {
+            Some(f) => {
+                rec.bundled(f.tests, f.nodes);
+                f.hit
+            }
+            None => scene
                 .accel
-                .closest(&scene.objects, ray, 0.0, f64::INFINITY, rec)
-        else {
+                .closest(&scene.objects, ray, 0.0, f64::INFINITY, rec),
+        };
+        let Some((object, local)) = closest else {
             let color = self.settings.background;
             rec.end_ray(color, End::Miss, false);
             return color;

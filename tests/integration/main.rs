@@ -3,12 +3,14 @@
 mod accel;
 mod book;
 mod course;
+mod bundle;
 mod common;
 mod cs1230;
 mod csg;
 mod errors;
 mod explain;
 mod intersect;
+mod progressive;
 mod props;
 mod render;
 mod robust;

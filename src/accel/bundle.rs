@@ -1,0 +1,137 @@
+//! Bundle traversal (beam tracing's modern form): up to [`BUNDLE`] neighbouring rays walk a
+//! BVH together. A node is opened once for the whole bundle; each ray still active there
+//! gets the node's conservative f32 slab test ([`Node::enter`], four boxes at once), and a
+//! child is culled when it misses every ray of the bundle. A leaf's primitives are tested
+//! against the rays that reached it by the caller's exact f64 routine, so which primitive a
+//! ray hits, and at what t, is exactly what the single-ray walk ([`Bvh::closest`]) finds, as
+//! long as the caller breaks ties the same way (closest t, then lowest index: order-free).
+//!
+//! What is shared: fetching and decoding each node, the stack, ordering the children, and
+//! (for meshes) preparing a face's corner and edges once for all rays that test it.
+
+use super::bvh::{down, up, Bvh, RayBox, STACK, WIDTH};
+use crate::math::Ray;
+use arrayvec::ArrayVec;
+
+/// Rays in a bundle: a 4×4 block of pixels (camera rays of one sample index).
+pub const BUNDLE: usize = 16;
+
+/// A child waiting on the bundle's stack: which rays entered it, and where each entered
+/// (a lower bound, for skipping rays that found a closer hit since it was pushed).
+#[derive(Clone, Copy)]
+struct Pending {
+    child: u32,
+    count: u32,
+    rays: u32,
+    t_enter: [f32; BUNDLE],
+}
+
+/// What a bundle traversal did: nodes opened (once per bundle), and per ray the nodes it
+/// was slab-tested at (what the single-ray walk would call the nodes it visited).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct BundleWork {
+    pub opened: u32,
+    pub ray_nodes: [u32; BUNDLE],
+}
+
+impl Bvh {
+    // ANCHOR: closest_bundle
+    /// Closest hits of `rays` (at most [`BUNDLE`]; bit i of `active` says ray i takes part).
+    /// `t_max[i]` is ray i's best t so far; `test(k, rays, t_max)` tests primitive slot `k`
+    /// against the rays whose bits are set in `rays` and lowers `t_max[i]` for each ray that
+    /// hit it closer (keeping the hit itself). The children of an opened node are visited
+    /// nearest first by the nearest entry of any ray.
+    pub fn closest_bundle(
+        &self,
+        rays: &[Ray],
+        active: u32,
+        t_min: f64,
+        t_max: &mut [f64; BUNDLE],
+        work: &mut BundleWork,
+        mut test: impl FnMut(usize, u32, &mut [f64; BUNDLE]),
+    ) {
+        if self.nodes.is_empty() || active == 0 {
+            return;
+        }
+        let n = rays.len();
+        debug_assert!(n <= BUNDLE && n > 0);
+        let boxes: [RayBox; BUNDLE] = std::array::from_fn(|i| RayBox::new(&rays[i.min(n - 1)]));
+        let t_min32 = down(t_min);
+        let mut t_max32: [f32; BUNDLE] = std::array::from_fn(|i| up(t_max[i]));
+        let mut stack = ArrayVec::<Pending, STACK>::new();
+        let mut node = 0usize;
+        let mut mask = active;
+        loop {
+            work.opened += 1;
+            let nd = &self.nodes[node];
+            let mut lane_rays = [0u32; WIDTH];
+            let mut near = [[f32::INFINITY; BUNDLE]; WIDTH];
+            let mut m = mask;
+            while m != 0 {
+                let i = m.trailing_zeros() as usize;
+                m &= m - 1;
+                work.ray_nodes[i] += 1;
+                let (hit, t) = nd.enter(&boxes[i], t_min32, t_max32[i]);
+                for (lane, lane_near) in near.iter_mut().enumerate() {
+                    lane_rays[lane] |= ((hit >> lane) & 1) << i;
+                    lane_near[i] = t[lane];
+                }
+            }
+            // Children entered by some ray, farthest (by the nearest ray's entry) pushed first.
+            let mut order: ArrayVec<(f32, usize), WIDTH> = ArrayVec::new();
+            for lane in 0..WIDTH {
+                if lane_rays[lane] != 0 {
+                    let mut first = f32::INFINITY;
+                    let mut r = lane_rays[lane];
+                    while r != 0 {
+                        let i = r.trailing_zeros() as usize;
+                        r &= r - 1;
+                        first = first.min(near[lane][i]);
+                    }
+                    order.push((first, lane));
+                }
+            }
+            order.sort_unstable_by(|a, b| b.0.total_cmp(&a.0).then(b.1.cmp(&a.1)));
+            for &(_, lane) in &order {
+                stack.push(Pending {
+                    child: nd.child[lane],
+                    count: nd.count[lane],
+                    rays: lane_rays[lane],
+                    t_enter: near[lane],
+                });
+            }
+            // The next node to open: leaves on the way are tested here.
+            loop {
+                let Some(p) = stack.pop() else { return };
+                // Rays that found a hit closer than where they enter this child drop out.
+                let mut rays_in = 0u32;
+                let mut r = p.rays;
+                while r != 0 {
+                    let i = r.trailing_zeros() as usize;
+                    r &= r - 1;
+                    if p.t_enter[i] as f64 <= t_max[i] {
+                        rays_in |= 1 << i;
+                    }
+                }
+                if rays_in == 0 {
+                    continue;
+                }
+                if p.count == 0 {
+                    node = p.child as usize;
+                    mask = rays_in;
+                    break;
+                }
+                for k in p.child as usize..(p.child + p.count) as usize {
+                    test(k, rays_in, t_max);
+                }
+                let mut r = rays_in;
+                while r != 0 {
+                    let i = r.trailing_zeros() as usize;
+                    r &= r - 1;
+                    t_max32[i] = up(t_max[i]);
+                }
+            }
+        }
+    }
+    // ANCHOR_END: closest_bundle
+}

@@ -1,0 +1,159 @@
+//! "For fast results, take as many samples as time permits": progressive rendering.
+//!
+//! A render is a sequence of passes, each a complete image made by the ordinary renderer
+//! ([`super::render`]) with settings derived from the scene's ([`pass_settings`]):
+//!
+//! | pass | what it traces |
+//! |------|----------------|
+//! | 1 | a preview: `subsample` 4 times the scene's (one pixel in 4×4 traces, the stretched filter fills in the rest) |
+//! | 2 | the scene's own settings: the image `rtlab render` makes without `--passes` |
+//! | k > 2 | 4ᵏ⁻² times the scene's samples per pixel (the grid and jittered samplers twice as many strata per side; center and corners continue as the grid sampler, of which the centre sample is the 1×1 case) |
+//!
+//! Each pass's image depends only on the scene and its pass number, never on how long the
+//! earlier passes took, so a render that stopped at a time budget after pass K has exactly
+//! the bytes of `rtlab render --passes K`. Each pass starts from scratch: the samples of pass
+//! k are not kept for pass k + 1 (the grid and jittered patterns move when they get finer).
+//! As pass k + 1 costs about four times pass k, the discarded work is at most a third of the
+//! total.
+
+use super::film::{check_memory, render_until, RenderOutput};
+use super::validate_spp;
+use crate::scene::{RenderSettings, SamplerKind, Scene};
+use std::time::Instant;
+
+/// The most `subsample` can be ([`RenderSettings::subsample`]'s own limit on the CLI).
+const MAX_SUBSAMPLE: u32 = 64;
+
+/// The settings of pass `k` (1-based) of a progressive render of a `width`×`height` image
+/// from `base` (the scene's settings), or why there is no such pass: more samples per pixel
+/// than the samplers allow, or more memory than a render may take.
+pub fn pass_settings(
+    base: &RenderSettings,
+    width: u32,
+    height: u32,
+    k: u32,
+) -> Result<RenderSettings, String> {
+    let mut s = base.clone();
+    match k {
+        0 => return Err("passes are numbered from 1".into()),
+        1 => s.subsample = (base.subsample.max(1) * 4).min(MAX_SUBSAMPLE),
+        2 => {}
+        _ => {
+            let grow = 4u64.checked_pow(k - 2).unwrap_or(u64::MAX);
+            let (sampler, spp) = match base.sampler {
+                SamplerKind::Center | SamplerKind::Corners => (SamplerKind::Grid, 1),
+                kind => (kind, base.spp.max(1) as u64),
+            };
+            let spp = spp.saturating_mul(grow);
+            let spp = u32::try_from(spp).map_err(|_| too_many(k, spp))?;
+            validate_spp(sampler, spp).map_err(|m| format!("pass {k}: {m}"))?;
+            s.sampler = sampler;
+            s.spp = spp;
+        }
+    }
+    check_memory(width, height, s.spp).map_err(|m| format!("pass {k}: {m}"))?;
+    Ok(s)
+}
+
+fn too_many(k: u32, spp: u64) -> String {
+    format!("pass {k} would take {spp} samples per pixel, more than the limit of 65536")
+}
+
+/// What one pass of [`progressive`] made.
+pub struct Pass {
+    /// Its number, from 1.
+    pub index: u32,
+    /// The settings it rendered with ([`pass_settings`]).
+    pub settings: RenderSettings,
+    pub output: RenderOutput,
+    /// Seconds since the progressive render began, when this pass was complete.
+    pub finished: f64,
+}
+
+/// Renders passes 1, 2, … ([`pass_settings`]) until `max_passes` are done, the sequence ends
+/// (the next pass would exceed the sample or memory limits) or `stop(k)` says to stop while
+/// pass k is running or before it starts. `stop` is asked before every tile, so a stopped
+/// pass ends within a tile's time; its partial image is thrown away. `each` sees every
+/// completed pass as it is done (a progressive preview shows them). Returns the last
+/// completed pass: `None` only if the first one was stopped (or Ctrl-C was pressed).
+///
+/// `count` records rays, tests and nodes per pass, as `render --stats` does.
+pub fn progressive(
+    scene: &Scene,
+    base: &RenderSettings,
+    count: bool,
+    max_passes: Option<u32>,
+    stop: &(dyn Fn(u32) -> bool + Sync),
+    mut each: impl FnMut(&Pass),
+) -> Option<Pass> {
+    let start = Instant::now();
+    let (w, h) = (scene.camera.width, scene.camera.height);
+    let mut last: Option<Pass> = None;
+    for k in 1..=max_passes.unwrap_or(u32::MAX) {
+        let Ok(settings) = pass_settings(base, w, h, k) else {
+            break;
+        };
+        if stop(k) {
+            break;
+        }
+        let Some(output) = render_until(scene, &settings, count, None, &|| stop(k)) else {
+            break;
+        };
+        if crate::interrupt::requested() {
+            return None;
+        }
+        let pass = Pass {
+            index: k,
+            settings,
+            output,
+            finished: start.elapsed().as_secs_f64(),
+        };
+        each(&pass);
+        last = Some(pass);
+    }
+    last
+}
+
+/// A short description of a pass's settings, for messages: "subsample 4, 1 spp center".
+pub fn describe(s: &RenderSettings) -> String {
+    let sub = if s.subsample > 1 {
+        format!("subsample {}, ", s.subsample)
+    } else {
+        String::new()
+    };
+    format!("{sub}{} spp {}", s.spp, s.sampler.name())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn base(kind: SamplerKind, spp: u32) -> RenderSettings {
+        RenderSettings {
+            sampler: kind,
+            spp,
+            ..RenderSettings::default()
+        }
+    }
+
+    #[test]
+    fn passes_preview_then_the_scene_then_four_times_the_samples() {
+        let b = base(SamplerKind::Jittered, 4);
+        let p1 = pass_settings(&b, 64, 48, 1).unwrap();
+        assert_eq!((p1.subsample, p1.spp, p1.sampler), (4, 4, SamplerKind::Jittered));
+        assert_eq!(pass_settings(&b, 64, 48, 2).unwrap(), b);
+        let p4 = pass_settings(&b, 64, 48, 4).unwrap();
+        assert_eq!((p4.subsample, p4.spp, p4.sampler), (1, 64, SamplerKind::Jittered));
+        // The centre sample is the 1×1 grid: later passes refine it as a grid.
+        let c = pass_settings(&base(SamplerKind::Center, 1), 64, 48, 3).unwrap();
+        assert_eq!((c.spp, c.sampler), (4, SamplerKind::Grid));
+        // The sequence ends at the samplers' limit (65536 = 4⁸), never with a bad spp.
+        let r = base(SamplerKind::Random, 1);
+        assert!(pass_settings(&r, 2, 2, 10).is_ok());
+        assert!(pass_settings(&r, 2, 2, 11).is_err());
+        assert!(pass_settings(&r, 2, 2, 0).is_err());
+        assert!(pass_settings(&r, 2, 2, 200).is_err());
+        // Memory: a big image ends the sequence earlier.
+        assert!(pass_settings(&r, 1280, 720, 7).is_err());
+    }
+}

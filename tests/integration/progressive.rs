@@ -1,0 +1,100 @@
+//! Progressive rendering: `--passes K` and `--time-budget SECONDS` make the same bytes for
+//! the same K, on any thread count; the library yields each pass and can be cancelled.
+
+use super::common::*;
+use rtlab::sampling::progressive::{pass_settings, progressive};
+use rtlab::sampling::render;
+
+fn render_args<'a>(scene: &'a str, out: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
+    let mut v = vec![
+        "render", scene, "-o", out, "--width", "64", "--height", "48",
+    ];
+    v.extend_from_slice(extra);
+    v
+}
+
+#[test]
+fn budgeted_render_equals_passes_k_on_any_thread_count() {
+    let scene = path("scenes/whitted.json");
+    let s = scene.to_str().unwrap();
+    let budget = tmp("budget.png");
+    let o = rtlab(&render_args(s, budget.to_str().unwrap(), &["--time-budget", "0.3"]));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let err = stderr(&o);
+    let k: String = err
+        .split("--passes ")
+        .nth(1)
+        .unwrap_or_else(|| panic!("no pass count on stderr: {err}"))
+        .chars()
+        .take_while(|c| c.is_ascii_digit())
+        .collect();
+    assert!(k.parse::<u32>().unwrap() >= 1, "{err}");
+    let want = std::fs::read(&budget).unwrap();
+    for threads in ["1", "2"] {
+        let out = tmp(&format!("passes-{threads}.png"));
+        let o = rtlab(&render_args(
+            s,
+            out.to_str().unwrap(),
+            &["--passes", &k, "--threads", threads, "--quiet"],
+        ));
+        assert!(o.status.success(), "{}", stderr(&o));
+        assert!(std::fs::read(&out).unwrap() == want, "--passes {k} --threads {threads}");
+    }
+    // A budget with a cap stops at the cap, and is then --passes of the cap.
+    let capped = tmp("capped.png");
+    let o = rtlab(&render_args(
+        s,
+        capped.to_str().unwrap(),
+        &["--time-budget", "100", "--passes", "2", "--threads", "2"],
+    ));
+    assert!(stderr(&o).contains("the same image: --passes 2"), "{}", stderr(&o));
+    let plain = tmp("plain.png");
+    let o = rtlab(&render_args(s, plain.to_str().unwrap(), &["--quiet"]));
+    assert!(o.status.success());
+    // Pass 2 is the scene's own settings: the plain render.
+    assert!(std::fs::read(&capped).unwrap() == std::fs::read(&plain).unwrap());
+}
+
+#[test]
+fn each_pass_is_the_render_of_its_settings_and_stop_cancels() {
+    let mut scene = scene("scenes/spheres.json");
+    scene.camera.update_size(40, 30);
+    let mut seen = Vec::new();
+    // Stop before pass 4 starts: three passes, the last returned.
+    let last = progressive(&scene, &scene.render, false, None, &|k| k >= 4, |p| {
+        seen.push((p.index, p.output.image.clone()))
+    })
+    .expect("a pass completed");
+    assert_eq!(last.index, 3);
+    assert_eq!(seen.iter().map(|s| s.0).collect::<Vec<_>>(), vec![1, 2, 3]);
+    for (k, image) in &seen {
+        let s = pass_settings(&scene.render, 40, 30, *k).unwrap();
+        assert_eq!(*image, render(&scene, &s, false, None).image, "pass {k}");
+    }
+    // Passes differ: the preview is not the full image, and pass 3 has more samples.
+    assert_ne!(seen[0].1, seen[1].1);
+    assert_ne!(seen[1].1, seen[2].1);
+    // Stopped during its first pass: nothing.
+    assert!(progressive(&scene, &scene.render, false, None, &|_| true, |_| {}).is_none());
+    // A cap of passes.
+    let two = progressive(&scene, &scene.render, true, Some(2), &|_| false, |_| {}).unwrap();
+    assert_eq!(two.index, 2);
+    assert!(two.output.stats.is_some());
+}
+
+#[test]
+fn bad_pass_arguments_are_refused() {
+    let scene = path("scenes/spheres.json");
+    let out = tmp("bad-pass.png");
+    for (args, want) in [
+        (vec!["--passes", "0"], "argument --passes"),
+        (vec!["--passes", "30"], "argument --passes"),
+        (vec!["--time-budget", "0"], "argument --time-budget"),
+        (vec!["--time-budget", "1", "--aov", "depth"], "argument --time-budget"),
+    ] {
+        let o = rtlab(&render_args(scene.to_str().unwrap(), out.to_str().unwrap(), &args));
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains(want), "{args:?}: {}", stderr(&o));
+        assert!(!out.exists());
+    }
+}
