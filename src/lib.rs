@@ -23,6 +23,7 @@
 pub mod accel;
 pub mod camera;
 pub mod cli;
+pub mod diff;
 pub mod error;
 pub mod interrupt;
 pub mod lessons;

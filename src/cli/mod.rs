@@ -3,6 +3,7 @@
 
 pub mod compare;
 pub mod convert;
+pub mod diff;
 pub mod explain;
 pub mod explain_text;
 pub mod intersect;
@@ -57,12 +58,36 @@ pub enum Command {
     Compare(compare::Args),
     /// Draw where each sampler puts its samples in a few pixels.
     Samples(samples::Args),
+    /// Your image against the expected one: where it differs, which term and which mistake
+    /// explain it (exit 0 same, 1 different, 2 error).
+    Diff(diff::Args),
+}
+
+/// What a command concluded, when it is more than "done": `diff` says whether the images
+/// agree. `main.rs` turns it into the exit status (0 same, 1 different), like `diff`/`cmp`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Outcome {
+    Same,
+    Different,
 }
 
 /// Runs a parsed command line, writing what a command prints to `out` (stdout for the
 /// binary; a file or a buffer when `rtlab lessons` runs commands in-process).
 pub fn run(cli: Cli, out: &mut dyn Write) -> Result<()> {
+    run_outcome(cli, out).map(|_| ())
+}
+
+/// [`run`], keeping what the command concluded ([`Outcome`]) for the exit status.
+pub fn run_outcome(cli: Cli, out: &mut dyn Write) -> Result<Outcome> {
     match cli.command {
+        Command::Diff(a) => diff::run(a, out),
+        other => run_done(other, out).map(|()| Outcome::Same),
+    }
+}
+
+/// The commands that conclude nothing but "done".
+fn run_done(command: Command, out: &mut dyn Write) -> Result<()> {
+    match command {
         Command::Render(a) => render::run(a, out),
         Command::Explain(a) => explain::run(a, out),
         Command::Intersect(a) => intersect::run(a, out),
@@ -73,6 +98,7 @@ pub fn run(cli: Cli, out: &mut dyn Write) -> Result<()> {
         Command::Steps(a) => steps::run(a, out),
         Command::Compare(a) => compare::run(a, out),
         Command::Samples(a) => samples::run(a, out),
+        Command::Diff(a) => diff::run(a, out).map(|_| ()),
     }
 }
 
