@@ -28,6 +28,7 @@ pub mod error;
 pub mod interrupt;
 pub mod lessons;
 pub mod math;
+pub mod mistakes;
 pub mod output;
 pub mod sampling;
 pub mod scene;

@@ -70,6 +70,10 @@ pub struct Args {
     /// Threshold of the adaptive sampler.
     #[arg(long, value_name = "T")]
     pub adaptive_threshold: Option<f64>,
+    /// Render every run and the reference with a deliberate mistake (`rtlab mistakes`);
+    /// repeatable and comma-separated.
+    #[arg(long = "mistake", value_name = "NAME")]
+    pub mistakes: Vec<String>,
 }
 
 /// One run: its sampler and spp.
@@ -201,6 +205,7 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
         max_depth: args.max_depth,
         seed: args.seed,
         adaptive_threshold: args.adaptive_threshold,
+        mistakes: args.mistakes.clone(),
         ..RenderArgs::default()
     };
     let scene = base.load(&args.scene)?;

@@ -9,6 +9,7 @@ pub mod explain_text;
 pub mod intersect;
 pub mod intersect_solids;
 pub mod lessons;
+pub mod mistakes;
 pub mod render;
 pub mod samples;
 pub mod schema;
@@ -58,6 +59,9 @@ pub enum Command {
     Compare(compare::Args),
     /// Draw where each sampler puts its samples in a few pixels.
     Samples(samples::Args),
+    /// List the catalogue of deliberate mistakes (`--mistake NAME`): what the wrong code does
+    /// and which formula of the lecture it breaks.
+    Mistakes(mistakes::Args),
     /// Your image against the expected one: where it differs, which term and which mistake
     /// explain it (exit 0 same, 1 different, 2 error).
     Diff(diff::Args),
@@ -98,6 +102,7 @@ fn run_done(command: Command, out: &mut dyn Write) -> Result<()> {
         Command::Steps(a) => steps::run(a, out),
         Command::Compare(a) => compare::run(a, out),
         Command::Samples(a) => samples::run(a, out),
+        Command::Mistakes(a) => mistakes::run(a, out),
         Command::Diff(a) => diff::run(a, out).map(|_| ()),
     }
 }
@@ -160,6 +165,10 @@ pub struct RenderArgs {
     /// Use a pinhole even if the camera has an aperture.
     #[arg(long)]
     pub no_depth_of_field: bool,
+    /// Render with a deliberate mistake of the catalogue (`rtlab mistakes` lists them);
+    /// repeatable and comma-separated.
+    #[arg(long = "mistake", value_name = "NAME")]
+    pub mistakes: Vec<String>,
 }
 
 impl RenderArgs {
@@ -254,7 +263,19 @@ impl RenderArgs {
         if let (Some(w), Some(h)) = (self.width, self.height) {
             check_size(w, h).map_err(|m| Error::arg("--width/--height", m))?;
         }
+        self.mistake_set()?;
         Ok(())
+    }
+
+    /// The `--mistake` names as a set (unknown names: an argument error naming the nearest).
+    pub fn mistake_set(&self) -> Result<crate::mistakes::Mistakes> {
+        let mut set = crate::mistakes::Mistakes::NONE;
+        for list in &self.mistakes {
+            let more =
+                crate::mistakes::Mistake::parse_list(list).map_err(|m| Error::arg("--mistake", m))?;
+            set = set.iter().chain(more.iter()).collect();
+        }
+        Ok(set)
     }
 
     pub fn apply(&self, scene: &mut Scene) -> Result<()> {
@@ -293,6 +314,7 @@ impl RenderArgs {
         r.refractions &= !self.no_refractions;
         r.textures &= !self.no_textures;
         r.depth_of_field &= !self.no_depth_of_field;
+        r.mistakes = r.mistakes.iter().chain(self.mistake_set()?.iter()).collect();
         let (w, h) = (
             self.width.unwrap_or(scene.camera.width),
             self.height.unwrap_or(scene.camera.height),

@@ -124,6 +124,9 @@ pub struct RenderSettings {
     /// Light only by directional lights (the course's Intersect stage does): the others are
     /// still evaluated, unshadowed, and reported as ignored, but add nothing to the colour.
     pub directional_only: bool,
+    /// Deliberate mistakes of the catalogue (`--mistake`): switches of the one tracer that
+    /// reproduce a student's wrong code (empty: the correct tracer).
+    pub mistakes: crate::mistakes::Mistakes,
 }
 
 impl Default for RenderSettings {
@@ -151,6 +154,7 @@ impl Default for RenderSettings {
             subsample: 1,
             adaptive_threshold: 0.1,
             directional_only: false,
+            mistakes: crate::mistakes::Mistakes::NONE,
         }
     }
 }
