@@ -68,6 +68,9 @@ pub fn render_flags(r: &RenderArgs) -> String {
     opt("seed", r.seed.map(|v| v.to_string()));
     opt("encoding", r.encoding.clone());
     opt("accel", r.accel.clone());
+    for m in &r.mistakes {
+        opt("mistake", Some(m.clone()));
+    }
     for (on, name) in [
         (r.no_shadows, "no-shadows"),
         (r.no_reflections, "no-reflections"),

@@ -10,6 +10,7 @@ pub mod pixels;
 pub mod png;
 pub mod regions;
 pub mod report;
+pub mod suspects;
 pub mod terms;
 
 use crate::error::{Error, Result};
@@ -29,6 +30,9 @@ pub struct Options {
     pub max_regions: usize,
     /// Pixels of a region traced for the term fit (evenly spread when it has more).
     pub fit_pixels: usize,
+    /// Search the mistake catalogue, scoring on at most this many differing pixels of each
+    /// region (and half as many agreeing ones near it); 0: no search.
+    pub mistake_pixels: usize,
     /// The command that explains a pixel, up to `--pixel` (e.g. `rtlab explain scene.json`),
     /// and the render flags after it.
     pub explain: String,
@@ -42,6 +46,7 @@ impl Default for Options {
             max_percent: 1.0,
             max_regions: 12,
             fit_pixels: 800,
+            mistake_pixels: 400,
             explain: "rtlab explain SCENE".into(),
             explain_flags: String::new(),
         }
@@ -86,6 +91,8 @@ pub struct Region {
     /// The command showing what that pixel should be.
     pub explain: String,
     pub fit: Fit,
+    /// The mistakes that explain most of it, best first (empty when none explains enough).
+    pub mistakes: Vec<suspects::MistakeFit>,
 }
 
 /// Everything `diff` found.
@@ -228,6 +235,13 @@ fn region(
         .collect();
 
     let fit = fit_terms(scene, expected, yours, &regions::spread(&g.pixels, opts.fit_pixels), candidates);
+    let mistakes = if opts.mistake_pixels == 0 {
+        Vec::new()
+    } else {
+        let mut scored = regions::spread(&g.pixels, opts.mistake_pixels);
+        scored.extend(regions::spread(&agreeing_near(expected, yours, &g, opts.tolerance), opts.mistake_pixels / 2));
+        suspects::search(scene, expected, yours, &scored)
+    };
     Region {
         bbox: g.bbox,
         members: g.pixels,
@@ -236,7 +250,21 @@ fn region(
         pixel,
         explain: format!("{} --pixel {},{}{}", opts.explain, pixel.0, pixel.1, opts.explain_flags),
         fit,
+        mistakes,
     }
+}
+
+/// The agreeing pixels of a region's box grown by a few pixels: a mistake that would change
+/// them too is not the one that was made.
+fn agreeing_near(expected: &RgbImage, yours: &RgbImage, g: &regions::PixelGroup, tolerance: u8) -> Vec<(u32, u32)> {
+    let (w, h) = expected.dimensions();
+    let m = 4;
+    let b = g.bbox;
+    let (x0, y0, x1, y1) = (b[0].saturating_sub(m), b[1].saturating_sub(m), (b[2] + m).min(w - 1), (b[3] + m).min(h - 1));
+    (y0..=y1)
+        .flat_map(|y| (x0..=x1).map(move |x| (x, y)))
+        .filter(|&(x, y)| !regions::differs(expected, yours, x, y, tolerance))
+        .collect()
 }
 
 /// Traces `sample` (some pixels of a region) with the ledger recorder, lit and, when the

@@ -232,3 +232,11 @@ pub fn hits(
         })
         .collect()
 }
+
+/// The bytes of `pixels` as `render` writes them under `settings`.
+pub fn bytes(scene: &Scene, settings: &RenderSettings, pixels: &[(u32, u32)]) -> Vec<[u8; 3]> {
+    colors(scene, settings, pixels)
+        .into_iter()
+        .map(|c| crate::sampling::encode(c, settings.encoding))
+        .collect()
+}

@@ -6,7 +6,9 @@
 //! "same"|"different", "regions_found", "regions": [{"bbox": [x0, y0, x1, y1], "pixels",
 //! "objects": [{"name", "surfaces": [..], "pixels"}], "mean_difference": [r, g, b] (yours −
 //! expected, levels), "pixel": [x, y], "explain", "terms": [{"term", "light", "coefficient",
-//! "explained", "says"}], "terms_explained", "mistakes": [{"name", "names", "explained"}]}]}`.
+//! "explained", "says"}], "terms_explained", "mistakes": [{"name", "names", "explained"}]}],
+//! "diagnosis": [{"name", "names", "regions", "pixels"}]}` (each region's best mistake, summed
+//! over the regions it explains).
 
 use super::{terms, Report};
 use crate::scene::Scene;
@@ -20,6 +22,25 @@ fn round(x: f64, digits: i32) -> f64 {
     } else {
         r
     }
+}
+
+/// The mistakes the regions point at, over the whole image: each region's best one, with
+/// the regions (numbered from 1) and pixels it explains; most pixels first.
+pub fn diagnosis(scene: &Scene, r: &Report) -> Vec<(Vec<&'static str>, Vec<usize>, usize)> {
+    let mut out: Vec<(Vec<&'static str>, Vec<usize>, usize)> = Vec::new();
+    for (i, g) in r.regions.iter().enumerate() {
+        let Some(best) = g.mistakes.first() else { continue };
+        let names = super::suspects::added(scene, best);
+        match out.iter_mut().find(|d| d.0 == names) {
+            Some(d) => {
+                d.1.push(i + 1);
+                d.2 += g.members.len();
+            }
+            None => out.push((names, vec![i + 1], g.members.len())),
+        }
+    }
+    out.sort_by_key(|d| std::cmp::Reverse(d.2));
+    out
 }
 
 /// The report as JSON (rounded at the source: levels to 2 decimals, fractions to 3).
@@ -45,6 +66,10 @@ pub fn to_json(scene: &Scene, r: &Report) -> Value {
                     "says": terms::sentence(scene, t),
                 })).collect::<Vec<_>>(),
                 "terms_explained": round(g.fit.explained, 3),
+                "mistakes": g.mistakes.iter().map(|f| {
+                    let names = super::suspects::added(scene, f);
+                    json!({"name": names.join(" + "), "names": names, "explained": round(f.explained, 3)})
+                }).collect::<Vec<_>>(),
             })
         })
         .collect();
@@ -60,6 +85,9 @@ pub fn to_json(scene: &Scene, r: &Report) -> Value {
         },
         "verdict": if r.same { "same" } else { "different" },
         "regions_found": r.regions_found,
+        "diagnosis": diagnosis(scene, r).into_iter().map(|(names, regions, pixels)| json!({
+            "name": names.join(" + "), "names": names, "regions": regions, "pixels": pixels,
+        })).collect::<Vec<_>>(),
         "regions": regions,
     })
 }
@@ -123,6 +151,23 @@ pub fn to_text(scene: &Scene, r: &Report, max_percent: f64) -> String {
         m.max,
         if r.same { "the rule" } else { "the rule only" },
     );
+    let d = diagnosis(scene, r);
+    if !d.is_empty() {
+        let parts: Vec<String> = d
+            .iter()
+            .map(|(names, regions, pixels)| {
+                let list: Vec<String> = regions.iter().map(|k| k.to_string()).collect();
+                format!(
+                    "{} (region{} {}: {} pixels)",
+                    names.join(" + "),
+                    if regions.len() == 1 { "" } else { "s" },
+                    list.join(", "),
+                    count(*pixels)
+                )
+            })
+            .collect();
+        s += &format!("most likely: {}\n", parts.join("; "));
+    }
     for (i, g) in r.regions.iter().enumerate() {
         s += &format!(
             "region {}: {} pixels in [{}, {}]–[{}, {}] on {}; yours − expected {} levels\n",
@@ -144,6 +189,16 @@ pub fn to_text(scene: &Scene, r: &Report, max_percent: f64) -> String {
         }
         if g.fit.terms.is_empty() {
             s += "  term: no term of the ledger explains this difference\n";
+        }
+        match g.mistakes.first() {
+            Some(f) => {
+                s += &format!(
+                    "  mistake: {} ({:.0} % of the difference; `rtlab mistakes` says what the wrong code does)\n",
+                    super::suspects::added(scene, f).join(" + "),
+                    100.0 * f.explained
+                );
+            }
+            None => s += "  mistake: none of the catalogue makes this difference\n",
         }
         s += &format!("  see what it should be: {}\n", g.explain);
     }

@@ -15,9 +15,15 @@ pub const HEAT_LEVELS: f64 = 64.0;
 /// shrunk.
 const PANEL: u32 = 300;
 
-/// What the table says of a region's best mistake (none until a search ran).
-pub fn best_mistake(_g: &crate::diff::Region) -> String {
-    "—".into()
+/// What the table says of a region's best mistake.
+pub fn best_mistake(scene: &Scene, g: &crate::diff::Region) -> String {
+    g.mistakes.first().map_or("(none of the catalogue)".into(), |f| {
+        format!(
+            "{} ({:.0} %)",
+            crate::diff::suspects::added(scene, f).join(" + "),
+            100.0 * f.explained
+        )
+    })
 }
 
 /// Draws the figure.
@@ -72,7 +78,7 @@ pub fn figure(scene: &Scene, expected: &RgbImage, yours: &RgbImage, rep: &Report
                 g.fit.terms.first().map_or("(none fits)".into(), |t| {
                     format!("{} ({:.0} %)", terms::sentence(scene, t), 100.0 * t.explained)
                 }),
-                best_mistake(g),
+                best_mistake(scene, g),
             ]
         })
         .collect();
