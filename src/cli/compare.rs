@@ -232,7 +232,7 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
         s.render.sampler = sampler;
         s.render.subsample = sub;
         let o = with_threads(args.threads, || render(&s, &s.render, true, None))?;
-        let img = o.image.to_rgb8(s.render.encoding);
+        let img = o.image.to_rgb8_for(&s.render);
         let samples: u64 = o.spp_map.iter().flatten().map(|&n| n as u64).sum();
         let rays = o.stats.as_ref().map_or(0, |st| st.rays.total);
         Ok((

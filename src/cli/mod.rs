@@ -5,6 +5,7 @@ pub mod compare;
 pub mod convert;
 pub mod diff;
 pub mod explain;
+pub mod explain_mistakes;
 pub mod explain_text;
 pub mod intersect;
 pub mod intersect_solids;

@@ -133,7 +133,7 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
             args.scene.display()
         );
     }
-    write_png(&out, &result.image.to_rgb8(scene.render.encoding))?;
+    write_png(&out, &result.image.to_rgb8_for(&scene.render))?;
 
     if let (Some(format), Some(stats)) = (stats_format, &result.stats) {
         let trace = result.trace_seconds;
