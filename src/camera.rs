@@ -4,6 +4,7 @@
 //! transformation → direction = world film point − eye (then made unit length).
 
 use crate::math::{Ray, Rng};
+use crate::mistakes::{Mistake, Mistakes};
 use glam::{DMat4, DVec2, DVec3, DVec4};
 use serde::Serialize;
 
@@ -101,8 +102,7 @@ impl Camera {
     pub fn update_size(&mut self, width: u32, height: u32) {
         self.width = width;
         self.height = height;
-        let tan_h = (self.fov_y.to_radians() / 2.0).tan();
-        let tan_w = tan_h * width as f64 / height as f64;
+        let (tan_w, tan_h) = self.tan_half_angles(Mistakes::NONE);
         let [u, v, w] = self.basis;
         // ANCHOR: normalising
         // The normalising transformation is S · R · T: translate the eye to the origin, rotate
@@ -115,14 +115,54 @@ impl Camera {
         // ANCHOR_END: normalising
     }
 
-    // ANCHOR: generate
+    /// tan(θw/2) and tan(θh/2) of the film: tan(θw/2) = (W/H)·tan(θh/2). The catalogue's
+    /// `fov-width-angle` takes θw = (W/H)·θh instead, `aspect-ignored` a square film.
+    fn tan_half_angles(&self, mistakes: Mistakes) -> (f64, f64) {
+        let half_h = self.fov_y.to_radians() / 2.0;
+        let tan_h = half_h.tan();
+        let aspect = self.width as f64 / self.height as f64;
+        let tan_w = if mistakes.has(Mistake::AspectIgnored) {
+            tan_h
+        } else if mistakes.has(Mistake::FovWidthAngle) {
+            // Kept below 90° so the film stays finite, as wrong as the student's.
+            (aspect * half_h).min(89.5f64.to_radians()).tan()
+        } else {
+            tan_h * aspect
+        };
+        (tan_w, tan_h)
+    }
+
     /// The ray through film position `film` (pixel units, y down), with every stage recorded.
     /// `lens` is a point in the unit square for depth of field (ignored for a pinhole).
     pub fn generate(&self, film: DVec2, lens: Option<DVec2>) -> (Ray, RayGeneration) {
-        let ndc = DVec2::new(
-            2.0 * film.x / self.width as f64 - 1.0,
-            1.0 - 2.0 * film.y / self.height as f64,
+        self.generate_as(film, lens, Mistakes::NONE)
+    }
+
+    // ANCHOR: generate
+    /// [`Camera::generate`] under the catalogue's camera mistakes (none: the lecture's).
+    pub fn generate_as(
+        &self,
+        film: DVec2,
+        lens: Option<DVec2>,
+        mistakes: Mistakes,
+    ) -> (Ray, RayGeneration) {
+        // `pixel-corner`: the sample's position taken from the pixel's corner, not its centre.
+        let at = if mistakes.has(Mistake::PixelCorner) {
+            film - DVec2::splat(0.5)
+        } else {
+            film
+        };
+        let mut ndc = DVec2::new(
+            2.0 * at.x / self.width as f64 - 1.0,
+            1.0 - 2.0 * at.y / self.height as f64,
         );
+        if mistakes.has(Mistake::ImageFlipped) {
+            ndc.y = -ndc.y; // row 0 taken as the bottom of the film
+        }
+        if mistakes.has(Mistake::FovWidthAngle) || mistakes.has(Mistake::AspectIgnored) {
+            // The normalising transformation holds the right width; scale x to the wrong one.
+            ndc.x *= self.tan_half_angles(mistakes).0 / self.tan_half_angles(Mistakes::NONE).0;
+        }
         let film_point = DVec3::new(ndc.x, ndc.y, -1.0);
         let world_point = self.world_from_canonical.transform_point3(film_point);
         let mut origin = self.position;

@@ -23,10 +23,12 @@
 pub mod accel;
 pub mod camera;
 pub mod cli;
+pub mod diff;
 pub mod error;
 pub mod interrupt;
 pub mod lessons;
 pub mod math;
+pub mod mistakes;
 pub mod output;
 pub mod sampling;
 pub mod scene;

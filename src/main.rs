@@ -1,5 +1,5 @@
-//! The rtlab binary: parse the command line, run, and turn errors into exit status 2.
-//! This is the only place that knows about exit codes.
+//! The rtlab binary: parse the command line, run, and turn errors into exit status 2 (and
+//! `diff`'s "the images differ" into 1). This is the only place that knows about exit codes.
 
 use clap::Parser;
 use std::process::ExitCode;
@@ -7,8 +7,9 @@ use std::process::ExitCode;
 fn main() -> ExitCode {
     rtlab::interrupt::install();
     let cli = rtlab::cli::Cli::parse(); // usage errors exit with status 2 from clap
-    match rtlab::cli::run(cli, &mut std::io::stdout().lock()) {
-        Ok(()) => ExitCode::SUCCESS,
+    match rtlab::cli::run_outcome(cli, &mut std::io::stdout().lock()) {
+        Ok(rtlab::cli::Outcome::Same) => ExitCode::SUCCESS,
+        Ok(rtlab::cli::Outcome::Different) => ExitCode::from(1),
         // Ctrl-C: 128 + SIGINT, what a shell reports for a program the signal stopped.
         Err(e) if rtlab::interrupt::requested() => {
             eprintln!("error: {e}");

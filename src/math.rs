@@ -1,5 +1,6 @@
 //! Rays and transforms: the two pieces of linear algebra every other module shares.
 
+use crate::mistakes::{Mistake, Mistakes};
 use glam::{DMat3, DMat4, DVec3};
 
 /// A ray `P + t·d`. The direction is *not* assumed to be unit length: object-space rays keep
@@ -76,6 +77,27 @@ impl Transform {
             return n.normalize();
         }
         (self.normal_to_world * n).normalize()
+    }
+
+    /// [`Transform::normal_to_world`] under the catalogue's normal mistakes:
+    /// `normal-object-matrix` uses the object's matrix M instead of (M⁻¹)ᵀ, and
+    /// `normal-not-normalized` skips the final normalisation.
+    #[inline]
+    pub fn normal_to_world_as(&self, n: DVec3, mistakes: Mistakes) -> DVec3 {
+        if mistakes.is_empty() {
+            return self.normal_to_world(n);
+        }
+        let m = if mistakes.has(Mistake::NormalObjectMatrix) {
+            DMat3::from_mat4(self.world_from_object)
+        } else {
+            self.normal_to_world
+        };
+        let n = m * n;
+        if mistakes.has(Mistake::NormalNotNormalized) {
+            n
+        } else {
+            n.normalize()
+        }
     }
 
     pub fn point_to_world(&self, p: DVec3) -> DVec3 {

@@ -9,6 +9,7 @@ pub use bundle::{BundleWork, BUNDLE};
 pub use bvh::{Bvh, Node};
 
 use crate::math::Ray;
+use crate::mistakes::{Mistake, Mistakes};
 use crate::scene::Object;
 use crate::shapes::{Aabb, LocalHit};
 use crate::trace::Recorder;
@@ -90,6 +91,26 @@ pub fn test_object<R: Recorder>(
     hit
 }
 // ANCHOR_END: object_test
+
+/// [`test_object`] under the catalogue's shape mistakes.
+#[inline]
+pub fn test_object_as<R: Recorder>(
+    objects: &[Object],
+    i: usize,
+    ray: &Ray,
+    t_min: f64,
+    t_max: f64,
+    mistakes: Mistakes,
+    rec: &mut R,
+) -> Option<LocalHit> {
+    let object = &objects[i];
+    let local_ray = object.transform.ray_to_object(ray);
+    let hit = object
+        .shape
+        .intersect_as(&local_ray, t_min, t_max, mistakes, rec.observer());
+    rec.tested(i, hit.map(|h| h.t), t_max, &local_ray);
+    hit
+}
 
 // ANCHOR: object_any
 /// The any-hit twin of [`test_object`], for shadow rays: the shape may stop at its first hit.
@@ -238,6 +259,62 @@ impl Accel {
         best
     }
     // ANCHOR_END: closest_bundle
+    /// [`Accel::closest`] under the catalogue's mistakes. `cap-radius` grows caps past the
+    /// bounds the BVH trusts and `object-space-t` compares t values the BVH's boxes do not
+    /// measure, so under them every object is tested, the lecture's loop; `object-space-t`
+    /// then ranks each hit by its t along the object-space direction made unit length,
+    /// t_object = t·|M⁻¹d| (the hit itself, point and normal, stays right).
+    pub fn closest_as<R: Recorder>(
+        &self,
+        objects: &[Object],
+        ray: &Ray,
+        t_min: f64,
+        mut t_max: f64,
+        mistakes: Mistakes,
+        rec: &mut R,
+    ) -> Option<(usize, LocalHit)> {
+        if !mistakes.changes_hits() {
+            return self.closest(objects, ray, t_min, t_max, rec);
+        }
+        let object_t = mistakes.has(Mistake::ObjectSpaceT);
+        let mut best: Option<(usize, LocalHit)> = None;
+        let mut key: Option<(f64, usize)> = None;
+        for i in 0..objects.len() {
+            if let Some(h) = test_object_as(objects, i, ray, t_min, t_max, mistakes, rec) {
+                let t = if object_t {
+                    h.t * objects[i].transform.ray_to_object(ray).dir.length()
+                } else {
+                    h.t
+                };
+                if precedes((t, i), key) {
+                    if !object_t {
+                        t_max = h.t;
+                    }
+                    key = Some((t, i));
+                    best = Some((i, h));
+                }
+            }
+        }
+        best
+    }
+
+    /// [`Accel::occluded`] under the catalogue's mistakes (`cap-radius`: every object).
+    pub fn occluded_as<R: Recorder>(
+        &self,
+        objects: &[Object],
+        ray: &Ray,
+        t_min: f64,
+        t_max: f64,
+        mistakes: Mistakes,
+        rec: &mut R,
+    ) -> Option<(usize, LocalHit)> {
+        if !(mistakes.has(Mistake::CapRadius) || mistakes.has(Mistake::ConeNormal)) {
+            return self.occluded(objects, ray, t_min, t_max, rec);
+        }
+        (0..objects.len()).find_map(|i| {
+            test_object_as(objects, i, ray, t_min, t_max, mistakes, rec).map(|h| (i, h))
+        })
+    }
 
     // ANCHOR: occluded
     /// Any hit with t in [t_min, t_max] (shadow rays): the first object found, not the

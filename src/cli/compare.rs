@@ -73,6 +73,10 @@ pub struct Args {
     /// The course's stage (see `rtlab render --help`); the runs' sampling stays compare's.
     #[arg(long, value_name = "intersect|illuminate")]
     pub course_stage: Option<String>,
+    /// Render every run and the reference with a deliberate mistake (`rtlab mistakes`);
+    /// repeatable and comma-separated.
+    #[arg(long = "mistake", value_name = "NAME")]
+    pub mistakes: Vec<String>,
 }
 
 /// One run: its sampler and spp.
@@ -205,6 +209,7 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
         seed: args.seed,
         adaptive_threshold: args.adaptive_threshold,
         course_stage: args.course_stage.clone(),
+        mistakes: args.mistakes.clone(),
         ..RenderArgs::default()
     };
     let scene = base.load(&args.scene)?;
@@ -231,7 +236,7 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
         s.render.sampler = sampler;
         s.render.subsample = sub;
         let o = with_threads(args.threads, || render(&s, &s.render, true, None))?;
-        let img = o.image.to_rgb8(s.render.encoding);
+        let img = o.image.to_rgb8_for(&s.render);
         let samples: u64 = o.spp_map.iter().flatten().map(|&n| n as u64).sum();
         let rays = o.stats.as_ref().map_or(0, |st| st.rays.total);
         Ok((

@@ -6,7 +6,7 @@
 
 use super::RenderArgs;
 use crate::error::{Error, Result};
-use crate::sampling::{encode, sample_pixel, Filter};
+use crate::sampling::{encode_as, sample_pixel, Filter};
 use crate::scene::Scene;
 use crate::trace::{trace_sample, RayNode, TreeRecorder};
 use glam::{DVec2, DVec3};
@@ -119,7 +119,7 @@ pub fn explain(scene: &Scene, x: u32, y: u32) -> Explanation {
     Explanation {
         pixel: [x, y],
         color,
-        encoded: encode(color, s.encoding),
+        encoded: encode_as(color, s.encoding, s.mistakes),
         samples,
     }
 }
@@ -218,10 +218,16 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
             crate::viz::slice::draw(&scene, &s.ray, &opts)?.write_png(path)?;
         }
     }
-    let text = match args.format.as_str() {
-        "json" => serde_json::to_string_pretty(&e).expect("serialisable") + "\n",
-        "yaml" => serde_yaml::to_string(&e).expect("serialisable"),
-        _ => crate::cli::explain_text::text(&scene, &e),
+    // `--mistake`: the pixel again without the mistakes, and what differs.
+    let diffs = super::explain_mistakes::differences(&scene, x, y, args.sample, &e);
+    let text = match (args.format.as_str(), &diffs) {
+        ("json", Some(d)) => serde_json::to_string_pretty(&d.annotate(&e)).expect("serialisable") + "\n",
+        ("yaml", Some(d)) => serde_yaml::to_string(&d.annotate(&e)).expect("serialisable"),
+        ("json", None) => serde_json::to_string_pretty(&e).expect("serialisable") + "\n",
+        ("yaml", None) => serde_yaml::to_string(&e).expect("serialisable"),
+        (_, d) => {
+            crate::cli::explain_text::text(&scene, &e) + &d.as_ref().map_or(String::new(), |d| d.text())
+        }
     };
     super::emit(out, &text)
 }

@@ -3,11 +3,14 @@
 
 pub mod compare;
 pub mod convert;
+pub mod diff;
 pub mod explain;
+pub mod explain_mistakes;
 pub mod explain_text;
 pub mod intersect;
 pub mod intersect_solids;
 pub mod lessons;
+pub mod mistakes;
 pub mod render;
 pub mod samples;
 pub mod schema;
@@ -58,12 +61,39 @@ pub enum Command {
     Compare(compare::Args),
     /// Draw where each sampler puts its samples in a few pixels.
     Samples(samples::Args),
+    /// List the catalogue of deliberate mistakes (`--mistake NAME`): what the wrong code does
+    /// and which formula of the lecture it breaks.
+    Mistakes(mistakes::Args),
+    /// Your image against the expected one: where it differs, which term and which mistake
+    /// explain it (exit 0 same, 1 different, 2 error).
+    Diff(diff::Args),
+}
+
+/// What a command concluded, when it is more than "done": `diff` says whether the images
+/// agree. `main.rs` turns it into the exit status (0 same, 1 different), like `diff`/`cmp`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Outcome {
+    Same,
+    Different,
 }
 
 /// Runs a parsed command line, writing what a command prints to `out` (stdout for the
 /// binary; a file or a buffer when `rtlab lessons` runs commands in-process).
 pub fn run(cli: Cli, out: &mut dyn Write) -> Result<()> {
+    run_outcome(cli, out).map(|_| ())
+}
+
+/// [`run`], keeping what the command concluded ([`Outcome`]) for the exit status.
+pub fn run_outcome(cli: Cli, out: &mut dyn Write) -> Result<Outcome> {
     match cli.command {
+        Command::Diff(a) => diff::run(a, out),
+        other => run_done(other, out).map(|()| Outcome::Same),
+    }
+}
+
+/// The commands that conclude nothing but "done".
+fn run_done(command: Command, out: &mut dyn Write) -> Result<()> {
+    match command {
         Command::Render(a) => render::run(a, out),
         Command::Explain(a) => explain::run(a, out),
         Command::Intersect(a) => intersect::run(a, out),
@@ -74,6 +104,8 @@ pub fn run(cli: Cli, out: &mut dyn Write) -> Result<()> {
         Command::Steps(a) => steps::run(a, out),
         Command::Compare(a) => compare::run(a, out),
         Command::Samples(a) => samples::run(a, out),
+        Command::Mistakes(a) => mistakes::run(a, out),
+        Command::Diff(a) => diff::run(a, out).map(|_| ()),
     }
 }
 
@@ -170,6 +202,10 @@ pub struct RenderArgs {
     /// Set by commands that have --quiet: the load's warnings are not printed.
     #[arg(skip)]
     pub quiet: bool,
+    /// Render with a deliberate mistake of the catalogue (`rtlab mistakes` lists them);
+    /// repeatable and comma-separated.
+    #[arg(long = "mistake", value_name = "NAME")]
+    pub mistakes: Vec<String>,
 }
 
 impl RenderArgs {
@@ -323,7 +359,19 @@ impl RenderArgs {
         if let (Some(w), Some(h)) = (self.width, self.height) {
             check_size(w, h).map_err(|m| Error::arg("--width/--height", m))?;
         }
+        self.mistake_set()?;
         Ok(())
+    }
+
+    /// The `--mistake` names as a set (unknown names: an argument error naming the nearest).
+    pub fn mistake_set(&self) -> Result<crate::mistakes::Mistakes> {
+        let mut set = crate::mistakes::Mistakes::NONE;
+        for list in &self.mistakes {
+            let more =
+                crate::mistakes::Mistake::parse_list(list).map_err(|m| Error::arg("--mistake", m))?;
+            set = set.iter().chain(more.iter()).collect();
+        }
+        Ok(set)
     }
 
     pub fn apply(&self, scene: &mut Scene) -> Result<()> {
@@ -376,6 +424,7 @@ impl RenderArgs {
         if let Some(t) = &self.traversal {
             r.traversal = Traversal::parse(t).expect("checked");
         }
+        r.mistakes = r.mistakes.iter().chain(self.mistake_set()?.iter()).collect();
         let (w, h) = (
             self.width.unwrap_or(scene.camera.width),
             self.height.unwrap_or(scene.camera.height),

@@ -264,7 +264,7 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
             explain_command(&args, x, y, k)
         );
     }
-    write_png(&out, &result.image.to_rgb8(scene.render.encoding))?;
+    write_png(&out, &result.image.to_rgb8_for(&scene.render))?;
 
     let spp = reached.map_or(scene.render.spp, |r| r.1);
     let passes = reached.map(|r| json!(r.0));

@@ -252,7 +252,7 @@ fn forward(args: &Args, scene: &crate::scene::Scene, out: &mut dyn std::io::Writ
         )
     })?;
     let rays = backward.stats.as_ref().map(|s| s.rays).unwrap_or_default();
-    let img = backward.image.to_rgb8(settings.encoding);
+    let img = backward.image.to_rgb8_for(settings);
     crate::viz::forward::figure(&fwd, &img, rays.camera, rays.total, args.pupil)
         .write_png(&path)?;
     let n = &fwd.counts;

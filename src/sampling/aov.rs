@@ -330,7 +330,7 @@ pub fn trace_aov_samples(scene: &Scene, settings: &RenderSettings) -> AovSamples
                 .collect();
             // Bundles: runs of 16 neighbours in the row, sample index by sample index.
             let mut cameras: Option<Vec<Vec<Option<CameraRay>>>> =
-                (settings.traversal == Traversal::Bundle).then(|| {
+                (settings.traversal == Traversal::Bundle && !settings.mistakes.changes_hits()).then(|| {
                     let most = films.iter().map(Vec::len).max().unwrap_or(0);
                     let samples: Vec<(u32, u32, u32, DVec2)> = (0..most)
                         .flat_map(|k| {

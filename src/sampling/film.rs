@@ -1,4 +1,5 @@
 use super::{sample_pixel, Filter, PixelSample};
+use crate::mistakes::{Mistake, Mistakes};
 use crate::scene::{Encoding, RenderSettings, Scene};
 use super::bundles::{tile_camera_rays, BundleTally};
 use crate::accel::Traversal;
@@ -27,24 +28,54 @@ impl Image {
         }
         out
     }
+
+    /// The bytes of this image as the settings encode them: their encoding, and the
+    /// catalogue's byte mistakes (`srgb-gamma`, `round-bytes`) when they are on.
+    pub fn to_rgb8_for(&self, settings: &RenderSettings) -> image::RgbImage {
+        if settings.mistakes.is_empty() {
+            return self.to_rgb8(settings.encoding);
+        }
+        let mut out = image::RgbImage::new(self.width, self.height);
+        for (p, c) in out.pixels_mut().zip(&self.pixels) {
+            *p = image::Rgb(encode_as(*c, settings.encoding, settings.mistakes));
+        }
+        out
+    }
 }
 
-// ANCHOR: encode
 /// One pixel's bytes. `Clamp`: floor(255·min(max(c, 0), 1)), no gamma, as the course's
 /// reference images are made. `Srgb`: the sRGB transfer curve, rounded.
 pub fn encode(c: DVec3, encoding: Encoding) -> [u8; 3] {
+    encode_as(c, encoding, Mistakes::NONE)
+}
+
+// ANCHOR: encode
+/// [`encode`] under the catalogue's byte mistakes: `srgb-gamma` applies the sRGB curve to the
+/// course's linear encoding, `round-bytes` rounds instead of truncating.
+pub fn encode_as(c: DVec3, encoding: Encoding, mistakes: Mistakes) -> [u8; 3] {
     let f = |x: f64| -> u8 {
         let x = if x.is_nan() { 0.0 } else { x.clamp(0.0, 1.0) };
-        match encoding {
-            Encoding::Clamp => (255.0 * x).floor() as u8,
-            Encoding::Srgb => {
-                let s = if x <= 0.003_130_8 {
-                    12.92 * x
-                } else {
-                    1.055 * x.powf(1.0 / 2.4) - 0.055
-                };
-                (255.0 * s).round() as u8
+        let srgb = |x: f64| {
+            if x <= 0.003_130_8 {
+                12.92 * x
+            } else {
+                1.055 * x.powf(1.0 / 2.4) - 0.055
             }
+        };
+        match encoding {
+            Encoding::Clamp => {
+                let x = if mistakes.has(Mistake::SrgbGamma) {
+                    srgb(x)
+                } else {
+                    x
+                };
+                if mistakes.has(Mistake::RoundBytes) {
+                    (255.0 * x).round() as u8
+                } else {
+                    (255.0 * x).floor() as u8
+                }
+            }
+            Encoding::Srgb => (255.0 * srgb(x)).round() as u8,
         }
     };
     [f(c.x), f(c.y), f(c.z)]
@@ -210,7 +241,8 @@ fn render_with<R: Tally>(
         (u64, Option<(u32, u32, u32)>),
         BundleTally,
     );
-    let bundled = settings.traversal == Traversal::Bundle;
+    // Under a mistake that changes hits, every ray takes the mistaken single-ray path.
+    let bundled = settings.traversal == Traversal::Bundle && !settings.mistakes.changes_hits();
     let tiles = tiles(w, h);
     let traced: Vec<Traced> = tiles
         .par_iter()

@@ -140,6 +140,9 @@ pub struct RenderSettings {
     /// How camera rays walk the BVHs: one by one or in bundles of 16 (`--traversal`; the
     /// image is the same either way).
     pub traversal: crate::accel::Traversal,
+    /// Deliberate mistakes of the catalogue (`--mistake`): switches of the one tracer that
+    /// reproduce a student's wrong code (empty: the correct tracer).
+    pub mistakes: crate::mistakes::Mistakes,
 }
 
 impl Default for RenderSettings {
@@ -172,6 +175,7 @@ impl Default for RenderSettings {
             texture_filter: crate::shading::TextureFilter::Nearest,
             course_refraction: false,
             traversal: crate::accel::Traversal::Single,
+            mistakes: crate::mistakes::Mistakes::NONE,
         }
     }
 }

@@ -1,3 +1,4 @@
+use crate::mistakes::{Mistake, Mistakes};
 use glam::DVec3;
 use serde::Serialize;
 
@@ -39,7 +40,6 @@ pub struct Shading {
 }
 
 impl Shading {
-    // ANCHOR: light_term
     /// One light sample's diffuse and specular terms at a point with unit normal `n` seen from
     /// direction `v` (unit, towards the viewer), before visibility:
     /// f_att·L·[kd·O_d·(n·l) + ks·O_s·(r·v)^n], with r = 2(n·l)n − l the mirrored light.
@@ -51,11 +51,40 @@ impl Shading {
         v: DVec3,
         f_att: f64,
     ) -> (DVec3, DVec3, f64, f64, f64) {
-        let n_dot_l = n.dot(l).max(0.0);
+        self.light_as(light_color, l, n, v, f_att, Mistakes::NONE)
+    }
+
+    // ANCHOR: light_term
+    /// [`Shading::light`] under the catalogue's mistakes (none: the lecture's formula). Each
+    /// mistake is the one-line variant next to the line it gets wrong.
+    pub fn light_as(
+        &self,
+        light_color: DVec3,
+        l: DVec3,
+        n: DVec3,
+        v: DVec3,
+        f_att: f64,
+        mistakes: Mistakes,
+    ) -> (DVec3, DVec3, f64, f64, f64) {
+        let n_dot_l = if mistakes.has(Mistake::NDotLUnclamped) {
+            n.dot(l)
+        } else {
+            n.dot(l).max(0.0)
+        };
         let diffuse = f_att * light_color * self.diffuse * n_dot_l * self.local_weight;
-        let r = 2.0 * n.dot(l) * n - l;
-        let r_dot_v = r.dot(v).max(0.0);
-        let (pow, specular) = if self.shininess > 0.0 && n_dot_l > 0.0 {
+        let r = if mistakes.has(Mistake::ReflectSign) {
+            l - 2.0 * n.dot(l) * n
+        } else {
+            2.0 * n.dot(l) * n - l
+        };
+        let r_dot_v = if mistakes.has(Mistake::BlinnPhong) {
+            n.dot((l + v).normalize_or_zero()).max(0.0) // n·h, h the half vector
+        } else {
+            r.dot(v).max(0.0)
+        };
+        let shininess_ok = self.shininess > 0.0 || mistakes.has(Mistake::ShininessZero);
+        let lit_side = n_dot_l > 0.0 || mistakes.has(Mistake::SpecularBehindLight);
+        let (pow, specular) = if shininess_ok && lit_side {
             let pow = r_dot_v.powf(self.shininess);
             (
                 pow,

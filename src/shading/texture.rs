@@ -1,3 +1,4 @@
+use crate::mistakes::{Mistake, Mistakes};
 use glam::{DVec2, DVec3};
 use std::sync::Arc;
 
@@ -50,10 +51,31 @@ pub struct Texture {
 }
 
 impl Texture {
-    // ANCHOR: texel
     /// The texel at texture coordinate (u, v), nearest neighbour, with the course's
     /// convention: u to the right, v up; image rows counted from the top.
     pub fn texel(&self, uv: DVec2) -> DVec3 {
+        self.texel_as(uv, Mistakes::NONE)
+    }
+
+    // ANCHOR: texel
+    /// [`Texture::texel`] under the catalogue's texture mistakes (none: the course's lookup).
+    pub fn texel_as(&self, uv: DVec2, mistakes: Mistakes) -> DVec3 {
+        // `texture-u-mirrored` / `texture-v-flipped`: u or v run the wrong way.
+        let mut uv = uv;
+        if mistakes.has(Mistake::TextureUMirrored) {
+            uv.x = 1.0 - uv.x;
+        }
+        if mistakes.has(Mistake::TextureVFlipped) {
+            uv.y = 1.0 - uv.y;
+        }
+        // `texture-off-by-one`: the index rounded instead of floored.
+        let index = |x: f64| {
+            if mistakes.has(Mistake::TextureOffByOne) {
+                x.round()
+            } else {
+                x.floor()
+            }
+        };
         match &self.source {
             TextureSource::Image {
                 width,
@@ -61,15 +83,15 @@ impl Texture {
                 texels,
             } => {
                 let (w, h) = (*width as f64, *height as f64);
-                let col = (uv.x * self.repeat.x * w).floor();
-                let row = ((1.0 - uv.y) * self.repeat.y * h).floor();
+                let col = index(uv.x * self.repeat.x * w);
+                let row = index((1.0 - uv.y) * self.repeat.y * h);
                 let col = (col.rem_euclid(w) as u32).min(width - 1);
                 let row = (row.rem_euclid(h) as u32).min(height - 1);
                 texels[(row * width + col) as usize]
             }
             TextureSource::Checker { squares, a, b } => {
-                let i = (uv.x * self.repeat.x * squares.x).floor() as i64;
-                let j = (uv.y * self.repeat.y * squares.y).floor() as i64;
+                let i = index(uv.x * self.repeat.x * squares.x) as i64;
+                let j = index(uv.y * self.repeat.y * squares.y) as i64;
                 if (i + j).rem_euclid(2) == 0 {
                     *a
                 } else {
@@ -85,16 +107,31 @@ impl Texture {
     /// y = (1 − v)·n·h − ½ (texel centres at integers), the four texels around (x, y) mixed
     /// by the fractional parts, indices wrapping as the texture repeats.
     pub fn lookup(&self, uv: DVec2, filter: TextureFilter) -> DVec3 {
+        self.lookup_as(uv, filter, Mistakes::NONE)
+    }
+    // ANCHOR_END: bilinear
+
+    /// [`Texture::lookup`] under the catalogue's texture mistakes: nearest lookups go through
+    /// [`Texture::texel_as`]; a bilinear one mirrors u or v the same way (`texture-off-by-one`
+    /// is a nearest-texel mistake).
+    pub fn lookup_as(&self, uv: DVec2, filter: TextureFilter, mistakes: Mistakes) -> DVec3 {
         let TextureSource::Image {
             width,
             height,
             texels,
         } = &self.source
         else {
-            return self.texel(uv);
+            return self.texel_as(uv, mistakes);
         };
         if filter == TextureFilter::Nearest {
-            return self.texel(uv);
+            return self.texel_as(uv, mistakes);
+        }
+        let mut uv = uv;
+        if mistakes.has(Mistake::TextureUMirrored) {
+            uv.x = 1.0 - uv.x;
+        }
+        if mistakes.has(Mistake::TextureVFlipped) {
+            uv.y = 1.0 - uv.y;
         }
         let (w, h) = (*width as f64, *height as f64);
         let x = uv.x * self.repeat.x * w - 0.5;
@@ -110,7 +147,6 @@ impl Texture {
         let bottom = at(x0, y0 + 1.0) * (1.0 - fx) + at(x0 + 1.0, y0 + 1.0) * fx;
         top * (1.0 - fy) + bottom * fy
     }
-    // ANCHOR_END: bilinear
 }
 
 #[cfg(test)]

@@ -1,6 +1,7 @@
 use super::working::short;
 use super::{u_around_y, Candidate, LocalHit, Observer, Quadratic, ON_SHAPE_EPS};
 use crate::math::Ray;
+use crate::mistakes::{Mistake, Mistakes};
 use glam::{DVec2, DVec3};
 
 /// The double cone x² + z² = (k·y)² with apex at the origin, cut to y_min ≤ y ≤ y_max, with
@@ -24,8 +25,22 @@ impl Cone {
         t_max: f64,
         obs: &mut O,
     ) -> Option<LocalHit> {
-        let c = Candidate::nearest(t_max, |f| self.candidates(ray, t_min, obs, f))?;
-        Some(self.local_hit(ray, c.t, c.surface))
+        self.intersect_as(ray, t_min, t_max, Mistakes::NONE, obs)
+    }
+
+    /// [`Cone::intersect`] under the catalogue's mistakes (`cap-radius`, `cone-normal`).
+    pub fn intersect_as<O: Observer>(
+        &self,
+        ray: &Ray,
+        t_min: f64,
+        t_max: f64,
+        mistakes: Mistakes,
+        obs: &mut O,
+    ) -> Option<LocalHit> {
+        let c = Candidate::nearest(t_max, |f| {
+            self.candidates_as(ray, t_min, mistakes, obs, f)
+        })?;
+        Some(self.local_hit_as(ray, c.t, c.surface, mistakes))
     }
 
     /// Every body and cap root, on the finite shape or not, handed to `found` (and shown to
@@ -34,6 +49,19 @@ impl Cone {
         &self,
         ray: &Ray,
         t_min: f64,
+        obs: &mut O,
+        found: impl FnMut(Candidate),
+    ) {
+        self.candidates_as(ray, t_min, Mistakes::NONE, obs, found)
+    }
+
+    /// [`Cone::candidates`] under the catalogue's mistakes: `cap-radius` accepts a cap root
+    /// at x² + z² ≤ r instead of r².
+    pub fn candidates_as<O: Observer>(
+        &self,
+        ray: &Ray,
+        t_min: f64,
+        mistakes: Mistakes,
         obs: &mut O,
         mut found: impl FnMut(Candidate),
     ) {
@@ -86,12 +114,17 @@ impl Cone {
                 let t = (plane - p.y) / d.y;
                 let (x, z) = (p.x + t * d.x, p.z + t * d.z);
                 let rr = x * x + z * z;
-                let on_shape = rr <= cap_r * cap_r * (1.0 + ON_SHAPE_EPS);
+                let r2 = if mistakes.has(Mistake::CapRadius) {
+                    cap_r
+                } else {
+                    cap_r * cap_r
+                };
+                let on_shape = rr <= r2 * (1.0 + ON_SHAPE_EPS);
                 let why = || {
                     format!(
                         "x² + z² = {} > r² = {}: outside the cap's disc",
                         short(rr),
-                        short(cap_r * cap_r)
+                        short(r2)
                     )
                 };
                 consider(t, surface, on_shape, &why, obs);
@@ -100,7 +133,22 @@ impl Cone {
     }
 
     pub(crate) fn local_hit(&self, ray: &Ray, t: f64, surface: &'static str) -> LocalHit {
-        let k2 = self.slope * self.slope;
+        self.local_hit_as(ray, t, surface, Mistakes::NONE)
+    }
+
+    fn local_hit_as(
+        &self,
+        ray: &Ray,
+        t: f64,
+        surface: &'static str,
+        mistakes: Mistakes,
+    ) -> LocalHit {
+        // `cone-normal`: the slope dropped from the gradient, (x, 0, z), the cylinder's normal.
+        let k2 = if mistakes.has(Mistake::ConeNormal) {
+            0.0
+        } else {
+            self.slope * self.slope
+        };
         let mut point = ray.at(t);
         let (normal, uv) = match surface {
             "top-cap" | "bottom-cap" => {

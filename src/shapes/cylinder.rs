@@ -1,6 +1,7 @@
 use super::working::short;
 use super::{u_around_y, Candidate, LocalHit, Observer, Quadratic, ON_SHAPE_EPS};
 use crate::math::Ray;
+use crate::mistakes::{Mistake, Mistakes};
 use glam::{DVec2, DVec3};
 
 /// The finite cylinder x² + z² = r², y_min ≤ y ≤ y_max, around the y axis, with flat caps
@@ -25,7 +26,21 @@ impl Cylinder {
         t_max: f64,
         obs: &mut O,
     ) -> Option<LocalHit> {
-        let c = Candidate::nearest(t_max, |f| self.candidates(ray, t_min, obs, f))?;
+        self.intersect_as(ray, t_min, t_max, Mistakes::NONE, obs)
+    }
+
+    /// [`Cylinder::intersect`] under the catalogue's mistakes (`cap-radius`).
+    pub fn intersect_as<O: Observer>(
+        &self,
+        ray: &Ray,
+        t_min: f64,
+        t_max: f64,
+        mistakes: Mistakes,
+        obs: &mut O,
+    ) -> Option<LocalHit> {
+        let c = Candidate::nearest(t_max, |f| {
+            self.candidates_as(ray, t_min, mistakes, obs, f)
+        })?;
         Some(self.local_hit(c.point, c.t, c.surface))
     }
 
@@ -36,6 +51,19 @@ impl Cylinder {
         &self,
         ray: &Ray,
         t_min: f64,
+        obs: &mut O,
+        found: impl FnMut(Candidate),
+    ) {
+        self.candidates_as(ray, t_min, Mistakes::NONE, obs, found)
+    }
+
+    /// [`Cylinder::candidates`] under the catalogue's mistakes: `cap-radius` accepts a cap
+    /// root at x² + z² ≤ r instead of r².
+    pub fn candidates_as<O: Observer>(
+        &self,
+        ray: &Ray,
+        t_min: f64,
+        mistakes: Mistakes,
         obs: &mut O,
         mut found: impl FnMut(Candidate),
     ) {
@@ -85,12 +113,17 @@ impl Cylinder {
                 let t = (plane - p.y) / d.y;
                 let (x, z) = (p.x + t * d.x, p.z + t * d.z);
                 let rr = x * x + z * z;
-                let on_shape = rr <= r * r * (1.0 + ON_SHAPE_EPS);
+                let r2 = if mistakes.has(Mistake::CapRadius) {
+                    r
+                } else {
+                    r * r
+                };
+                let on_shape = rr <= r2 * (1.0 + ON_SHAPE_EPS);
                 let why = || {
                     format!(
                         "x² + z² = {} > r² = {}: outside the cap's disc",
                         short(rr),
-                        short(r * r)
+                        short(r2)
                     )
                 };
                 consider(t, surface, on_shape, &why, obs);

@@ -136,6 +136,24 @@ impl Shape {
         }
     }
 
+    /// [`Shape::intersect`] under the catalogue's shape mistakes (`cap-radius`,
+    /// `cone-normal`); other shapes have none.
+    #[inline]
+    pub fn intersect_as<O: Observer>(
+        &self,
+        ray: &Ray,
+        t_min: f64,
+        t_max: f64,
+        mistakes: crate::mistakes::Mistakes,
+        obs: &mut O,
+    ) -> Option<LocalHit> {
+        match self {
+            Shape::Cylinder(s) => s.intersect_as(ray, t_min, t_max, mistakes, obs),
+            Shape::Cone(s) => s.intersect_as(ray, t_min, t_max, mistakes, obs),
+            _ => self.intersect(ray, t_min, t_max, obs),
+        }
+    }
+
     /// Is there any intersection with `t_min <= t <= t_max`? For shadow rays: a mesh stops at
     /// the first face it finds; other shapes answer with their closest hit (as cheap).
     /// Returns that hit; `is_some()` always equals `intersect(..).is_some()`.

@@ -2,6 +2,7 @@ use super::budget::Budget;
 use super::{End, HitInfo, RayKind, Recorder};
 use crate::camera::RayGeneration;
 use crate::math::{Ray, Rng};
+use crate::mistakes::Mistake;
 use crate::scene::{RenderSettings, Scene};
 use crate::shading::optics::{reflect, refract};
 use crate::shading::{LightTerm, Shading};
@@ -75,7 +76,7 @@ pub fn camera_ray(
 ) -> CameraRay {
     let mut rng = Rng::new(&[settings.seed, px as u64, py as u64, index as u64]);
     let lens = scene.camera.lens_sample(settings.depth_of_field, &mut rng);
-    let (ray, generation) = scene.camera.generate(film, lens);
+    let (ray, generation) = scene.camera.generate_as(film, lens, settings.mistakes);
     CameraRay {
         ray,
         generation,
@@ -155,9 +156,14 @@ impl<'a> Tracer<'a> {
                 rec.bundled(f.tests, f.nodes);
                 f.hit
             }
-            None => scene
-                .accel
-                .closest(&scene.objects, ray, 0.0, f64::INFINITY, rec),
+            None => scene.accel.closest_as(
+                &scene.objects,
+                ray,
+                0.0,
+                f64::INFINITY,
+                self.settings.mistakes,
+                rec,
+            ),
         };
         let Some((object, local)) = closest else {
             let color = self.settings.background;
@@ -167,7 +173,10 @@ impl<'a> Tracer<'a> {
         let hit = self.hit_info(ray, object, local);
         rec.hit(&hit);
         let (color, end) = self.shade(ray, &hit, depth, weight, rng, rec);
-        let (color, clamped) = if self.settings.clamp_each_ray {
+        // `recursion-unclamped`: only the camera ray's colour is clamped.
+        let clamp = self.settings.clamp_each_ray
+            && !(depth > 0 && self.settings.mistakes.has(Mistake::RecursionUnclamped));
+        let (color, clamped) = if clamp {
             let c = color.clamp(DVec3::ZERO, DVec3::ONE);
             (c, c != color)
         } else {
@@ -184,19 +193,42 @@ impl<'a> Tracer<'a> {
             object,
             t: local.t,
             point: ray.at(local.t),
-            normal: o.transform.normal_to_world(local.normal),
+            normal: o
+                .transform
+                .normal_to_world_as(local.normal, self.settings.mistakes),
             local_ray: o.transform.ray_to_object(ray),
             local,
         }
     }
 
+    /// The global weights ka, kd, ks, kt (all 1 under `no-global-coefficients`).
+    fn global(&self) -> crate::scene::Global {
+        if self.settings.mistakes.has(Mistake::NoGlobalCoefficients) {
+            let one = crate::scene::Global {
+                ka: 1.0,
+                kd: 1.0,
+                ks: 1.0,
+                kt: 1.0,
+            };
+            return one;
+        }
+        self.scene.global
+    }
+
     /// The material colours at a hit, textures applied, global weights folded in.
     fn surface(&self, hit: &HitInfo) -> (Shading, DVec3) {
-        let g = self.scene.global;
+        let g = self.global();
         let m = self.scene.material_of(hit.object);
         let mut diffuse = g.kd * m.diffuse;
         if let (Some(tex), true) = (&m.texture, self.settings.textures) {
-            diffuse = (1.0 - tex.blend) * diffuse + tex.blend * tex.lookup(hit.local.uv, self.settings.texture_filter);
+            let texel = tex.lookup_as(hit.local.uv, self.settings.texture_filter, self.settings.mistakes);
+            // `texture-times-diffuse`: the texel multiplied by kd·Od in its share of the blend.
+            let texel = if self.settings.mistakes.has(Mistake::TextureTimesDiffuse) {
+                texel * diffuse
+            } else {
+                texel
+            };
+            diffuse = (1.0 - tex.blend) * diffuse + tex.blend * texel;
         }
         let transmit = if self.settings.refractions {
             g.kt * m.transparent
@@ -244,8 +276,29 @@ impl<'a> Tracer<'a> {
         let eps = self.settings.epsilon * (1.0 + hit.point.abs().max_element());
         let above = hit.point + n * eps; // spawn point on the incoming side
         let below = hit.point - n * eps; // spawn point on the far side
+        let mistakes = self.settings.mistakes;
+        // `intersect-point-lights`: the lights the Intersect stage leaves out are lit anyway.
+        let leaves_out = |light: &crate::shading::Light| {
+            self.settings.directional_only
+                && !light.is_directional()
+                && !mistakes.has(Mistake::IntersectPointLights)
+        };
+        // `intersect-shadows`: shadow rays cast although the Intersect stage has none.
+        let shadows = self.settings.shadows
+            || (self.settings.directional_only && mistakes.has(Mistake::IntersectShadows));
 
-        let ambient = scene.ambient_light * s.ambient;
+        let ambient = if mistakes.has(Mistake::AmbientTimesLight) {
+            // `ambient-times-light`: added once per light, times that light's colour.
+            let lit: DVec3 = scene
+                .lights
+                .iter()
+                .filter(|l| !leaves_out(l))
+                .map(|l| l.color)
+                .sum();
+            scene.ambient_light * lit * s.ambient
+        } else {
+            scene.ambient_light * s.ambient
+        };
         rec.ambient(ambient);
         let mut color = ambient;
 
@@ -257,7 +310,7 @@ impl<'a> Tracer<'a> {
         for (li, light) in lights.iter().enumerate() {
             // Evaluated even when ignored, so the random numbers of an area light are drawn
             // the same way in render and explain.
-            let ignored = self.settings.directional_only && !light.is_directional();
+            let ignored = leaves_out(light);
             let count = light.sample_count();
             let mut term = LightTerm {
                 light: li,
@@ -273,18 +326,28 @@ impl<'a> Tracer<'a> {
                 specular: DVec3::ZERO,
             };
             for k in 0..count {
-                let ls = light.sample(hit.point, k, rng);
+                let ls = light.sample_as(hit.point, k, rng, mistakes);
                 let share = ls.share;
                 term.distance += ls.distance * share;
                 term.attenuation += ls.f_att * share;
                 term.spot += ls.spot * share;
-                let faces_light = n.dot(ls.l) > 0.0 && ls.spot > 0.0;
+                // `n-dot-l-unclamped` and `specular-behind-light` light the far side too.
+                let faces_light = (n.dot(ls.l) > 0.0
+                    || mistakes.has(Mistake::NDotLUnclamped)
+                    || mistakes.has(Mistake::SpecularBehindLight))
+                    && ls.spot > 0.0;
+                // `shadow-acne`: the shadow ray starts on the surface itself.
+                let origin = if mistakes.has(Mistake::ShadowAcne) {
+                    hit.point
+                } else {
+                    above
+                };
                 let visible = faces_light
                     && (ignored
-                        || !self.settings.shadows
-                        || self.shadow_ray(above, ls.l, ls.distance, depth, rec));
+                        || !shadows
+                        || self.shadow_ray(origin, ls.l, ls.distance, depth, rec));
                 let (diffuse, specular, n_dot_l, r_dot_v, pow) =
-                    s.light(light.color * ls.spot * share, ls.l, n, v, ls.f_att);
+                    s.light_as(light.color * ls.spot * share, ls.l, n, v, ls.f_att, mistakes);
                 term.n_dot_l += n_dot_l * share;
                 term.r_dot_v += r_dot_v * share;
                 term.r_dot_v_pow += pow * share;
@@ -327,13 +390,27 @@ impl<'a> Tracer<'a> {
         };
 
         // Reflection: ks·Or·I_r, the mirror ray from the incoming side.
-        let w_reflect = if self.settings.reflections {
-            scene.global.ks * m.reflective * s.local_weight
-        } else {
+        let w_reflect = if !self.settings.reflections {
             DVec3::ZERO
+        } else if mistakes.has(Mistake::ReflectionWithoutKs) {
+            m.reflective * s.local_weight // `reflection-without-ks`: Or alone
+        } else {
+            self.global().ks * m.reflective * s.local_weight
         };
         if spawn(w_reflect, &mut end) {
-            let r = Ray::new(above, reflect(d, n));
+            // `reflection-acne`: from the surface itself; `reflect-sign`: −r.
+            let origin = if mistakes.has(Mistake::ReflectionAcne) {
+                hit.point
+            } else {
+                above
+            };
+            let dir = reflect(d, n);
+            let dir = if mistakes.has(Mistake::ReflectSign) {
+                -dir
+            } else {
+                dir
+            };
+            let r = Ray::new(origin, dir);
             rec.weight(w_reflect);
             let i_r = self.trace(
                 &r,
@@ -421,9 +498,16 @@ impl<'a> Tracer<'a> {
         rec.begin_ray(RayKind::Shadow, depth + 1, &ray);
         self.budget.count();
         let scene = self.scene;
+        let mistakes = self.settings.mistakes;
+        // `shadow-beyond-light`: blockers counted at any distance, past the light too.
+        let t_max = if mistakes.has(Mistake::ShadowBeyondLight) {
+            f64::INFINITY
+        } else {
+            distance
+        };
         let blocker = scene
             .accel
-            .occluded(&scene.objects, &ray, 0.0, distance, rec);
+            .occluded_as(&scene.objects, &ray, 0.0, t_max, mistakes, rec);
         match blocker {
             Some((object, local)) => {
                 if R::ACTIVE {

@@ -4,6 +4,7 @@
 
 pub mod canvas;
 pub mod compare;
+pub mod diff;
 pub mod forward;
 pub mod heatmap;
 pub mod intersect;

@@ -198,7 +198,7 @@ pub fn render_frames(scene: &Scene, steps: &[Step], skipped: &mut Vec<Skipped>) 
             StepKind::Aov(aov) => render_aov(scene, &scene.render, *aov).image,
             StepKind::Render(settings) => render(scene, settings, false, None)
                 .image
-                .to_rgb8(settings.encoding),
+                .to_rgb8_for(settings),
         };
         let last = i + 1 == steps.len();
         if !last && frames.last().is_some_and(|f| f.image == image) {

@@ -1,0 +1,213 @@
+//! `diff`'s outputs: the JSON for scripts and the few lines a student reads first.
+//!
+//! JSON (version 1):
+//! `{"version": 1, "size": [w, h], "metrics": {"diff_percent", "psnr" (dB, null when
+//! identical), "max" (levels), "tolerance" (levels), "differing" (pixels)}, "verdict":
+//! "same"|"different", "regions_found", "regions": [{"bbox": [x0, y0, x1, y1], "pixels",
+//! "objects": [{"name", "surfaces": [..], "pixels"}], "mean_difference": [r, g, b] (yours −
+//! expected, levels), "pixel": [x, y], "explain", "terms": [{"term", "light", "coefficient",
+//! "explained", "says"}], "terms_explained", "mistakes": [{"name", "names", "explained"}]}],
+//! "diagnosis": [{"name", "names", "regions", "pixels"}]}` (each region's best mistake, summed
+//! over the regions it explains).
+
+use super::{terms, Report};
+use crate::scene::Scene;
+use serde_json::{json, Value};
+
+fn round(x: f64, digits: i32) -> f64 {
+    let f = 10f64.powi(digits);
+    let r = (x * f).round() / f;
+    if r == 0.0 {
+        0.0
+    } else {
+        r
+    }
+}
+
+/// The mistakes the regions point at, over the whole image: each region's best one, with
+/// the regions (numbered from 1) and pixels it explains; most pixels first.
+pub fn diagnosis(scene: &Scene, r: &Report) -> Vec<(Vec<&'static str>, Vec<usize>, usize)> {
+    let mut out: Vec<(Vec<&'static str>, Vec<usize>, usize)> = Vec::new();
+    for (i, g) in r.regions.iter().enumerate() {
+        let Some(best) = g.mistakes.first() else { continue };
+        let names = super::suspects::added(scene, best);
+        match out.iter_mut().find(|d| d.0 == names) {
+            Some(d) => {
+                d.1.push(i + 1);
+                d.2 += g.members.len();
+            }
+            None => out.push((names, vec![i + 1], g.members.len())),
+        }
+    }
+    out.sort_by_key(|d| std::cmp::Reverse(d.2));
+    out
+}
+
+/// The report as JSON (rounded at the source: levels to 2 decimals, fractions to 3).
+pub fn to_json(scene: &Scene, r: &Report) -> Value {
+    let regions: Vec<Value> = r
+        .regions
+        .iter()
+        .map(|g| {
+            json!({
+                "bbox": g.bbox,
+                "pixels": g.members.len(),
+                "objects": g.objects.iter().map(|o| json!({
+                    "name": o.name, "surfaces": o.surfaces, "pixels": o.pixels,
+                })).collect::<Vec<_>>(),
+                "mean_difference": g.mean_difference.map(|v| round(v, 2)),
+                "pixel": [g.pixel.0, g.pixel.1],
+                "explain": g.explain,
+                "terms": g.fit.terms.iter().map(|t| json!({
+                    "term": t.term.kind.name(),
+                    "light": terms::light_name(scene, t.term),
+                    "coefficient": round(t.coefficient, 3),
+                    "explained": round(t.explained, 3),
+                    "says": terms::sentence(scene, t),
+                })).collect::<Vec<_>>(),
+                "terms_explained": round(g.fit.explained, 3),
+                "mistakes": g.mistakes.iter().map(|f| {
+                    let names = super::suspects::added(scene, f);
+                    json!({"name": names.join(" + "), "names": names, "explained": round(f.explained, 3)})
+                }).collect::<Vec<_>>(),
+            })
+        })
+        .collect();
+    json!({
+        "version": 1,
+        "size": [r.width, r.height],
+        "metrics": {
+            "diff_percent": round(r.metrics.diff_percent, 3),
+            "psnr": r.metrics.psnr.map(|p| round(p, 2)),
+            "max": r.metrics.max,
+            "tolerance": r.metrics.tolerance,
+            "differing": r.metrics.differing,
+        },
+        "verdict": if r.same { "same" } else { "different" },
+        "regions_found": r.regions_found,
+        "diagnosis": diagnosis(scene, r).into_iter().map(|(names, regions, pixels)| json!({
+            "name": names.join(" + "), "names": names, "regions": regions, "pixels": pixels,
+        })).collect::<Vec<_>>(),
+        "regions": regions,
+    })
+}
+
+fn count(n: usize) -> String {
+    let s = n.to_string();
+    let mut out = String::new();
+    for (i, ch) in s.chars().enumerate() {
+        if i > 0 && (s.len() - i).is_multiple_of(3) {
+            out.push(',');
+        }
+        out.push(ch);
+    }
+    out
+}
+
+/// Where a region is, for people: "sphere (body, cap)".
+pub fn objects_words(g: &super::Region) -> String {
+    g.objects
+        .iter()
+        .take(3)
+        .map(|o| {
+            if o.surfaces.is_empty() {
+                o.name.clone()
+            } else {
+                format!("{} ({})", o.name, o.surfaces.join(", "))
+            }
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+        + if g.objects.len() > 3 { ", ..." } else { "" }
+}
+
+/// The mean difference, for people: "(−30.1, −30.0, −29.8)".
+pub fn difference_words(d: [f64; 3]) -> String {
+    let f = |v: f64| {
+        let s = format!("{:.1}", v.abs());
+        if v < 0.0 && s != "0.0" {
+            format!("−{s}")
+        } else if s != "0.0" {
+            format!("+{s}")
+        } else {
+            s
+        }
+    };
+    format!("({}, {}, {})", f(d[0]), f(d[1]), f(d[2]))
+}
+
+/// The few lines a student reads first.
+pub fn to_text(scene: &Scene, r: &Report, max_percent: f64) -> String {
+    let m = &r.metrics;
+    let total = r.width as usize * r.height as usize;
+    let psnr = m.psnr.map_or("identical".into(), |p| format!("PSNR {p:.1} dB"));
+    let mut s = format!(
+        "{}: {} of {} pixels ({:.2} %) differ by more than {} levels (largest difference {}, {psnr}); {} allows {max_percent} %\n",
+        if r.same { "same" } else { "different" },
+        count(m.differing),
+        count(total),
+        m.diff_percent,
+        m.tolerance,
+        m.max,
+        if r.same { "the rule" } else { "the rule only" },
+    );
+    let d = diagnosis(scene, r);
+    if !d.is_empty() {
+        let parts: Vec<String> = d
+            .iter()
+            .map(|(names, regions, pixels)| {
+                let list: Vec<String> = regions.iter().map(|k| k.to_string()).collect();
+                format!(
+                    "{} (region{} {}: {} pixels)",
+                    names.join(" + "),
+                    if regions.len() == 1 { "" } else { "s" },
+                    list.join(", "),
+                    count(*pixels)
+                )
+            })
+            .collect();
+        s += &format!("most likely: {}\n", parts.join("; "));
+    }
+    for (i, g) in r.regions.iter().enumerate() {
+        s += &format!(
+            "region {}: {} pixels in [{}, {}]–[{}, {}] on {}; yours − expected {} levels\n",
+            i + 1,
+            count(g.members.len()),
+            g.bbox[0],
+            g.bbox[1],
+            g.bbox[2],
+            g.bbox[3],
+            objects_words(g),
+            difference_words(g.mean_difference),
+        );
+        for t in &g.fit.terms {
+            s += &format!(
+                "  term: {} ({:.0} % of the difference)\n",
+                terms::sentence(scene, t),
+                100.0 * t.explained
+            );
+        }
+        if g.fit.terms.is_empty() {
+            s += "  term: no term of the ledger explains this difference\n";
+        }
+        match g.mistakes.first() {
+            Some(f) => {
+                s += &format!(
+                    "  mistake: {} ({:.0} % of the difference; `rtlab mistakes` says what the wrong code does)\n",
+                    super::suspects::added(scene, f).join(" + "),
+                    100.0 * f.explained
+                );
+            }
+            None => s += "  mistake: none of the catalogue makes this difference\n",
+        }
+        s += &format!("  see what it should be: {}\n", g.explain);
+    }
+    if r.regions_found > r.regions.len() {
+        s += &format!(
+            "... and {} smaller regions (--format json lists the largest {})\n",
+            r.regions_found - r.regions.len(),
+            r.regions.len()
+        );
+    }
+    s
+}
