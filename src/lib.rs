@@ -11,6 +11,7 @@
 //! | the lighting equation, Snell's law | [`shading`] |
 //! | the Whitted recursion, observed by recorders | [`trace`] |
 //! | samplers, filters, film, encoding | [`sampling`] |
+//! | reports (explain, intersect) | [`report`] |
 //! | figures | [`viz`] |
 //! | subcommands | [`cli`] |
 //!
@@ -28,6 +29,7 @@ pub mod interrupt;
 pub mod lessons;
 pub mod math;
 pub mod output;
+pub mod report;
 pub mod sampling;
 pub mod scene;
 pub mod shading;
