@@ -13,6 +13,7 @@
 //! | samplers, filters, film, encoding | [`sampling`] |
 //! | reports (explain, intersect) | [`report`] |
 //! | figures | [`viz`] |
+//! | the lab in a browser (HTTP server and page) | [`server`] |
 //! | subcommands | [`cli`] |
 //!
 //! One tracer, observed: [`trace::Tracer`] is generic over a [`trace::Recorder`]. `render`
@@ -32,6 +33,7 @@ pub mod output;
 pub mod report;
 pub mod sampling;
 pub mod scene;
+pub mod server;
 pub mod shading;
 pub mod shapes;
 pub mod trace;

@@ -11,6 +11,7 @@ pub mod lessons;
 pub mod render;
 pub mod samples;
 pub mod schema;
+pub mod serve;
 pub mod steps;
 pub mod validate;
 
@@ -57,6 +58,8 @@ pub enum Command {
     Compare(compare::Args),
     /// Draw where each sampler puts its samples in a few pixels.
     Samples(samples::Args),
+    /// The lab in a browser: a local page to click pixels and see their rays (and an API).
+    Serve(serve::Args),
 }
 
 /// Runs a parsed command line, writing what a command prints to `out` (stdout for the
@@ -73,6 +76,7 @@ pub fn run(cli: Cli, out: &mut dyn Write) -> Result<()> {
         Command::Steps(a) => steps::run(a, out),
         Command::Compare(a) => compare::run(a, out),
         Command::Samples(a) => samples::run(a, out),
+        Command::Serve(a) => serve::run(a, out),
     }
 }
 

@@ -62,15 +62,7 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
     };
     let aov = match args.aov.as_deref() {
         None => None,
-        Some(name) => Some(Aov::parse(name).ok_or_else(|| {
-            Error::arg(
-                "--aov",
-                format!(
-                    "unknown AOV \"{name}\" (expected one of: {})",
-                    Aov::names().join(", ")
-                ),
-            )
-        })?),
+        Some(name) => Some(Aov::parse_arg(name)?),
     };
     let suffix = aov.map(|a| format!("-{}", a.name())).unwrap_or_default();
     let out = default_output(&args.scene, args.output.clone(), &suffix);

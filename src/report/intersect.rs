@@ -162,4 +162,3 @@ pub fn report(name: &'static str, shape: Shape, ray: Ray) -> Report {
         ray3: ray,
     }
 }
-

@@ -146,10 +146,21 @@ pub fn render(
     progress: Option<&indicatif::ProgressBar>,
 ) -> RenderOutput {
     if count {
-        render_with::<Counter>(scene, settings, progress)
+        render_with::<Counter>(scene, settings, progress, None)
     } else {
-        render_with::<NoRecorder>(scene, settings, progress)
+        render_with::<NoRecorder>(scene, settings, progress, None)
     }
+}
+
+/// [`render`] that gives up (`None`) once `cancel` is set, checked before each tile: the
+/// server cancels a render that a newer one superseded.
+pub fn render_cancellable(
+    scene: &Scene,
+    settings: &RenderSettings,
+    cancel: &std::sync::atomic::AtomicBool,
+) -> Option<RenderOutput> {
+    let out = render_with::<NoRecorder>(scene, settings, None, Some(cancel));
+    (!cancel.load(std::sync::atomic::Ordering::Relaxed)).then_some(out)
 }
 
 trait Tally: Recorder + Default + Send {
@@ -170,7 +181,12 @@ fn render_with<R: Tally>(
     scene: &Scene,
     settings: &RenderSettings,
     progress: Option<&indicatif::ProgressBar>,
+    cancel: Option<&std::sync::atomic::AtomicBool>,
 ) -> RenderOutput {
+    let stop = || {
+        crate::interrupt::requested()
+            || cancel.is_some_and(|c| c.load(std::sync::atomic::Ordering::Relaxed))
+    };
     let (w, h) = (scene.camera.width, scene.camera.height);
     let start = Instant::now();
     /// One tile's samples and counts, pixel by pixel in the tile's own row-major order,
@@ -184,8 +200,8 @@ fn render_with<R: Tally>(
     let traced: Vec<Traced> = tiles
         .par_iter()
         .map(|tile| {
-            if crate::interrupt::requested() {
-                // Ctrl-C: skip the remaining tiles; the caller writes nothing.
+            if stop() {
+                // Ctrl-C (or a cancelled render): skip the remaining tiles; the caller writes nothing.
                 return (Vec::new(), Vec::new(), None);
             }
             let mut samples = Vec::with_capacity(tile.len());
@@ -212,7 +228,7 @@ fn render_with<R: Tally>(
         })
         .collect();
     let trace_seconds = start.elapsed().as_secs_f64();
-    if crate::interrupt::requested() {
+    if stop() {
         // Some tiles were skipped: there is no image to reconstruct (and none will be written).
         return RenderOutput {
             image: Image {

@@ -2,6 +2,7 @@
 
 mod accel;
 mod book;
+mod browser;
 mod common;
 mod cs1230;
 mod csg;
@@ -12,6 +13,7 @@ mod props;
 mod render;
 mod robust;
 mod sampling;
+mod serve;
 mod shading;
 mod shapes;
 mod steps;
