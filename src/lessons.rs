@@ -135,31 +135,3 @@ pub fn words(command: &str) -> Vec<String> {
     }
     out
 }
-
-/// Runs one figure's command in-process, writing its output to `out_path`.
-pub fn build_figure(fig: &Figure, out_path: &Path) -> Result<()> {
-    use clap::Parser;
-    let out_str = out_path.to_string_lossy().to_string();
-    let argv: Vec<String> = words(&fig.command)
-        .into_iter()
-        .map(|w| w.replace("{out}", &out_str))
-        .collect();
-    let captures = !fig.command.contains("{out}");
-    let cli = crate::cli::Cli::try_parse_from(&argv).map_err(|e| {
-        Error::Other(format!(
-            "figure {}: the command does not parse: {}",
-            fig.name,
-            e.to_string().lines().next().unwrap_or("")
-        ))
-    })?;
-    if let Some(dir) = out_path.parent() {
-        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
-    }
-    let mut buf: Vec<u8> = Vec::new();
-    crate::cli::run(cli, &mut buf)
-        .map_err(|e| Error::Other(format!("figure {}: {e}", fig.name)))?;
-    if captures {
-        crate::output::write_atomic(out_path, &buf)?;
-    }
-    Ok(())
-}

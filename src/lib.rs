@@ -11,7 +11,9 @@
 //! | the lighting equation, Snell's law | [`shading`] |
 //! | the Whitted recursion, observed by recorders | [`trace`] |
 //! | samplers, filters, film, encoding | [`sampling`] |
+//! | reports (explain, intersect) | [`report`] |
 //! | figures | [`viz`] |
+//! | the lab in a browser (HTTP server and page) | [`server`] |
 //! | subcommands | [`cli`] |
 //!
 //! One tracer, observed: [`trace::Tracer`] is generic over a [`trace::Recorder`]. `render`
@@ -30,8 +32,10 @@ pub mod lessons;
 pub mod math;
 pub mod mistakes;
 pub mod output;
+pub mod report;
 pub mod sampling;
 pub mod scene;
+pub mod server;
 pub mod shading;
 pub mod shapes;
 pub mod trace;

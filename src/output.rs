@@ -95,13 +95,19 @@ fn reason(e: &std::io::Error) -> String {
 
 /// Encodes an RGB image as PNG and writes it atomically.
 pub fn write_png(path: &Path, img: &image::RgbImage) -> Result<()> {
+    let bytes = png_bytes(img).map_err(|e| Error::io(path, e))?;
+    write_atomic(path, &bytes)
+}
+
+/// The PNG bytes [`write_png`] writes (the server answers with the same bytes).
+pub fn png_bytes(img: &image::RgbImage) -> std::result::Result<Vec<u8>, String> {
     let mut bytes = Vec::new();
     img.write_to(
         &mut std::io::Cursor::new(&mut bytes),
         image::ImageFormat::Png,
     )
-    .map_err(|e| Error::io(path, format!("cannot encode PNG: {e}")))?;
-    write_atomic(path, &bytes)
+    .map_err(|e| format!("cannot encode PNG: {e}"))?;
+    Ok(bytes)
 }
 
 /// Refuses output names whose extension rtlab cannot write.

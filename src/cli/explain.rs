@@ -6,14 +6,13 @@
 
 use super::RenderArgs;
 use crate::error::{Error, Result};
-use crate::sampling::{encode_as, sample_pixel, Filter};
-use crate::scene::Scene;
-use crate::trace::{trace_sample, RayNode, TreeRecorder};
-use glam::{DVec2, DVec3};
-use serde::Serialize;
-use std::cell::RefCell;
-use std::collections::BTreeMap;
+use glam::DVec3;
 use std::path::PathBuf;
+
+// The report is a library type; re-exported here where it used to live.
+pub use crate::report::explain::{
+    explain, parse_pixel, rounded, CameraNode, Explanation, SampleNode,
+};
 
 #[derive(Debug, clap::Args)]
 pub struct Args {
@@ -37,118 +36,6 @@ pub struct Args {
     pub diagram_plane: String,
     #[command(flatten)]
     pub render: RenderArgs,
-}
-
-/// The ray-generation walk of one sample.
-#[derive(Debug, Clone, Serialize)]
-pub struct CameraNode {
-    pub ndc: DVec2,
-    pub film_point: DVec3,
-    pub world_point: DVec3,
-}
-
-#[derive(Debug, Clone, Serialize)]
-pub struct SampleNode {
-    pub index: u32,
-    /// The pixel this sample belongs to (a neighbour's when the filter reaches across).
-    pub pixel: [u32; 2],
-    pub film: DVec2,
-    /// Normalised filter weight of this sample in the explained pixel.
-    pub weight: f64,
-    pub color: DVec3,
-    pub camera: CameraNode,
-    pub ray: RayNode,
-}
-
-#[derive(Debug, Clone, Serialize)]
-pub struct Explanation {
-    pub pixel: [u32; 2],
-    pub color: DVec3,
-    pub encoded: [u8; 3],
-    pub samples: Vec<SampleNode>,
-}
-
-/// Explains pixel (x, y): traces every sample that reaches it with a [`TreeRecorder`] and
-/// reconstructs the pixel with the same filter code `render` uses.
-pub fn explain(scene: &Scene, x: u32, y: u32) -> Explanation {
-    let s = &scene.render;
-    let (w, h) = (scene.camera.width, scene.camera.height);
-    let traced: RefCell<BTreeMap<(u32, u32, u32), SampleNode>> = RefCell::new(BTreeMap::new());
-    let filter = Filter::for_settings(s);
-    let (color, weights) = crate::sampling::render_reconstruct(&filter, x, y, w, h, |qx, qy| {
-        sample_pixel(s, w, h, qx, qy, |k, film| {
-            let mut rec = TreeRecorder::new(scene);
-            let r = trace_sample(scene, s, qx, qy, k, film, &mut rec);
-            let color = if r.color.is_finite() {
-                r.color
-            } else {
-                DVec3::ZERO
-            };
-            let g = r.generation;
-            traced.borrow_mut().insert(
-                (qy, qx, k),
-                SampleNode {
-                    index: k,
-                    pixel: [qx, qy],
-                    film,
-                    weight: 0.0,
-                    color,
-                    camera: CameraNode {
-                        ndc: g.ndc,
-                        film_point: g.film_point,
-                        world_point: g.world_point,
-                    },
-                    ray: rec.root.expect("a camera ray was traced"),
-                },
-            );
-            color
-        })
-        .into_iter()
-        .map(|p| (p.film, p.color, p.area))
-        .collect()
-    });
-    let mut traced = traced.into_inner();
-    let samples = weights
-        .into_iter()
-        .filter_map(|(qx, qy, k, wt)| {
-            let mut node = traced.remove(&(qy, qx, k as u32))?;
-            node.weight = wt;
-            Some(node)
-        })
-        .collect();
-    Explanation {
-        pixel: [x, y],
-        color,
-        encoded: encode_as(color, s.encoding, s.mistakes),
-        samples,
-    }
-}
-
-/// Parses and checks `--pixel X,Y` against the image size.
-pub fn parse_pixel(s: &str, width: u32, height: u32) -> Result<(u32, u32)> {
-    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
-    let bad = || {
-        Error::arg(
-            "--pixel",
-            format!("expected two whole numbers X,Y (e.g. --pixel 120,80), found \"{s}\""),
-        )
-    };
-    if parts.len() != 2 {
-        return Err(bad());
-    }
-    let x: i64 = parts[0].parse().map_err(|_| bad())?;
-    let y: i64 = parts[1].parse().map_err(|_| bad())?;
-    if x < 0 || y < 0 || x >= width as i64 || y >= height as i64 {
-        return Err(Error::arg(
-            "--pixel",
-            format!(
-                "({x}, {y}) is outside the {width}×{height} image (x must be 0..{}, y 0..{})",
-                width - 1,
-                height - 1
-            ),
-        ));
-    }
-    Ok((x as u32, y as u32))
 }
 
 pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
@@ -222,9 +109,9 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
     let diffs = super::explain_mistakes::differences(&scene, x, y, args.sample, &e);
     let text = match (args.format.as_str(), &diffs) {
         ("json", Some(d)) => serde_json::to_string_pretty(&d.annotate(&e)).expect("serialisable") + "\n",
-        ("yaml", Some(d)) => serde_yaml::to_string(&d.annotate(&e)).expect("serialisable"),
+        ("yaml", Some(d)) => serde_norway::to_string(&d.annotate(&e)).expect("serialisable"),
         ("json", None) => serde_json::to_string_pretty(&e).expect("serialisable") + "\n",
-        ("yaml", None) => serde_yaml::to_string(&e).expect("serialisable"),
+        ("yaml", None) => serde_norway::to_string(&e).expect("serialisable"),
         (_, d) => {
             crate::cli::explain_text::text(&scene, &e) + &d.as_ref().map_or(String::new(), |d| d.text())
         }
@@ -232,34 +119,3 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
     super::emit(out, &text)
 }
 
-/// A copy of an explain document rounded for snapshot tests (DESIGN §5): colours to 3
-/// decimals, everything else (positions, t, weights) to 4, and −0.0 written as 0.0.
-pub fn rounded(value: &serde_json::Value) -> serde_json::Value {
-    fn walk(v: &serde_json::Value, digits: i32) -> serde_json::Value {
-        use serde_json::Value;
-        match v {
-            Value::Number(n) if n.is_f64() => {
-                let x = n.as_f64().unwrap_or(0.0);
-                let s = 10f64.powi(digits);
-                let r = (x * s).round() / s;
-                let r = if r == 0.0 { 0.0 } else { r };
-                serde_json::json!(r)
-            }
-            Value::Array(a) => Value::Array(a.iter().map(|x| walk(x, digits)).collect()),
-            Value::Object(m) => Value::Object(
-                m.iter()
-                    .map(|(k, x)| {
-                        let d = match k.as_str() {
-                            "color" | "ambient" | "diffuse" | "specular" | "reflected"
-                            | "transmitted" => 3,
-                            _ => digits,
-                        };
-                        (k.clone(), walk(x, d))
-                    })
-                    .collect(),
-            ),
-            other => other.clone(),
-        }
-    }
-    walk(value, 4)
-}

@@ -2,7 +2,8 @@
 //! committed ones are up to date.
 
 use crate::error::{Error, Result};
-use crate::lessons::{build_figure, load_all};
+use crate::lessons::{load_all, words, Figure};
+use std::path::Path;
 use std::path::PathBuf;
 
 #[derive(Debug, clap::Args)]
@@ -73,6 +74,35 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
     }
     if args.action == "check" {
         super::emit(out, &format!("{count} figure(s) up to date\n"))?;
+    }
+    Ok(())
+}
+
+/// Runs one figure's command in-process (here, in `cli/`, since it runs the CLI; the
+/// lesson files themselves are read by the library's [`crate::lessons`]), writing its output to `out_path`.
+pub fn build_figure(fig: &Figure, out_path: &Path) -> Result<()> {
+    use clap::Parser;
+    let out_str = out_path.to_string_lossy().to_string();
+    let argv: Vec<String> = words(&fig.command)
+        .into_iter()
+        .map(|w| w.replace("{out}", &out_str))
+        .collect();
+    let captures = !fig.command.contains("{out}");
+    let cli = super::Cli::try_parse_from(&argv).map_err(|e| {
+        Error::Other(format!(
+            "figure {}: the command does not parse: {}",
+            fig.name,
+            e.to_string().lines().next().unwrap_or("")
+        ))
+    })?;
+    if let Some(dir) = out_path.parent() {
+        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    }
+    let mut buf: Vec<u8> = Vec::new();
+    super::run(cli, &mut buf)
+        .map_err(|e| Error::Other(format!("figure {}: {e}", fig.name)))?;
+    if captures {
+        crate::output::write_atomic(out_path, &buf)?;
     }
     Ok(())
 }

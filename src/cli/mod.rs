@@ -14,6 +14,7 @@ pub mod mistakes;
 pub mod render;
 pub mod samples;
 pub mod schema;
+pub mod serve;
 pub mod steps;
 pub mod validate;
 
@@ -67,6 +68,8 @@ pub enum Command {
     /// Your image against the expected one: where it differs, which term and which mistake
     /// explain it (exit 0 same, 1 different, 2 error).
     Diff(diff::Args),
+    /// The lab in a browser: a local page to click pixels and see their rays (and an API).
+    Serve(serve::Args),
 }
 
 /// What a command concluded, when it is more than "done": `diff` says whether the images
@@ -106,6 +109,7 @@ fn run_done(command: Command, out: &mut dyn Write) -> Result<()> {
         Command::Samples(a) => samples::run(a, out),
         Command::Mistakes(a) => mistakes::run(a, out),
         Command::Diff(a) => diff::run(a, out).map(|_| ()),
+        Command::Serve(a) => serve::run(a, out),
     }
 }
 

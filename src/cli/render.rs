@@ -107,15 +107,7 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
     };
     let aov = match args.aov.as_deref() {
         None => None,
-        Some(name) => Some(Aov::parse(name).ok_or_else(|| {
-            Error::arg(
-                "--aov",
-                format!(
-                    "unknown AOV \"{name}\" (expected one of: {})",
-                    Aov::names().join(", ")
-                ),
-            )
-        })?),
+        Some(name) => Some(Aov::parse_arg(name)?),
     };
     if args.passes == Some(0) {
         return Err(Error::arg("--passes", "passes are numbered from 1"));

@@ -103,6 +103,19 @@ impl Aov {
     pub fn parse(s: &str) -> Option<Aov> {
         Self::ALL.iter().find(|r| r.1 == s).map(|r| r.0)
     }
+    /// [`Aov::parse`] with the message of a bad `--aov NAME`.
+    pub fn parse_arg(name: &str) -> crate::Result<Aov> {
+        Aov::parse(name).ok_or_else(|| {
+            crate::Error::arg(
+                "--aov",
+                format!(
+                    "unknown AOV \"{name}\" (expected one of: {})",
+                    Aov::names().join(", ")
+                ),
+            )
+        })
+    }
+
     pub fn name(self) -> &'static str {
         Self::row(self).1
     }

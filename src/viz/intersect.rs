@@ -18,7 +18,7 @@
 use super::labels::{around, around_rings, Labels};
 use super::style;
 use super::{Anchor, Canvas};
-use crate::cli::intersect::Report;
+use crate::report::intersect::Report;
 use crate::shapes::working::short;
 use crate::shapes::{Roots, Shape};
 use glam::DVec3;

@@ -58,6 +58,9 @@ pub struct SliceOptions {
     /// What the figure shows (e.g. "pixel (120, 80)"), written before the title line that
     /// says which plane this is.
     pub caption: Option<String>,
+    /// Emphasise event k (0-based, counted as [`event_count`] counts them) among all those
+    /// drawn: the ray a user picked in a ray tree (`rtlab serve`).
+    pub highlight: Option<usize>,
 }
 
 impl Default for SliceOptions {
@@ -68,6 +71,7 @@ impl Default for SliceOptions {
             plane: SlicePlane::Camera,
             events: None,
             caption: None,
+            highlight: None,
         }
     }
 }
@@ -550,7 +554,8 @@ pub fn draw(scene: &Scene, tree: &RayNode, opts: &SliceOptions) -> Result<Canvas
     for (i, e) in events.iter().enumerate() {
         let n = e.node;
         let color = style::ray(n.kind);
-        let last = opts.events.is_some() && i + 1 == events.len() && events.len() > 1;
+        let last = (opts.events.is_some() && i + 1 == events.len() && events.len() > 1)
+            || opts.highlight == Some(i);
         let width = match (last, n.kind) {
             (true, _) => 3.6,
             (_, RayKind::Camera) => 2.4,
@@ -693,6 +698,9 @@ pub fn draw(scene: &Scene, tree: &RayNode, opts: &SliceOptions) -> Result<Canvas
     let mut title = plane_note.to_string();
     if let Some(k) = opts.events {
         title = format!("{} of {} events · {title}", k.min(all.len()), all.len());
+    }
+    if let Some(k) = opts.highlight.filter(|&k| k < all.len()) {
+        title = format!("ray {} of {} in bold · {title}", k + 1, all.len());
     }
     if let Some(c) = &opts.caption {
         title = format!("{c} · {title}");

@@ -484,7 +484,7 @@ fn snapshot_of_an_explained_csg_pixel() {
 /// lesson commands in lessons/05-csg-and-blobs.json, kept current by `lessons check`).
 #[test]
 fn intersect_routes_csg_and_blob_through_the_cli() {
-    let spec = path("scenes/solids/dented-column.json");
+    let spec = path("specs/dented-column.json");
     let o = rtlab(&[
         "intersect",
         "csg",
@@ -526,7 +526,7 @@ fn intersect_solids_json_reports_intervals_and_hit() {
     let mut buf = Vec::new();
     rtlab::cli::intersect_solids::run(
         "csg",
-        &path("scenes/solids/dented-column.json"),
+        &path("specs/dented-column.json"),
         DVec3::new(-3.0, 0.8, 0.75),
         DVec3::X,
         true,
@@ -557,7 +557,7 @@ fn intersect_solids_json_reports_intervals_and_hit() {
     let mut buf = Vec::new();
     rtlab::cli::intersect_solids::run(
         "blob",
-        &path("scenes/solids/thin-neck.json"),
+        &path("specs/thin-neck.json"),
         DVec3::new(-3.0, 0.2, 0.0),
         DVec3::X,
         true,
@@ -580,7 +580,7 @@ fn intersect_solids_json_reports_intervals_and_hit() {
     // Errors: wrong kind in the spec, unknown kind, a zero direction.
     let e = rtlab::cli::intersect_solids::run(
         "blob",
-        &path("scenes/solids/dented-column.json"),
+        &path("specs/dented-column.json"),
         DVec3::ZERO,
         DVec3::X,
         false,
@@ -591,7 +591,7 @@ fn intersect_solids_json_reports_intervals_and_hit() {
     assert!(e.to_string().contains("describes a csg"), "{e}");
     let e = rtlab::cli::intersect_solids::run(
         "torus",
-        &path("scenes/solids/thin-neck.json"),
+        &path("specs/thin-neck.json"),
         DVec3::ZERO,
         DVec3::X,
         false,
@@ -602,7 +602,7 @@ fn intersect_solids_json_reports_intervals_and_hit() {
     assert!(e.to_string().contains("csg or blob"), "{e}");
     let e = rtlab::cli::intersect_solids::run(
         "blob",
-        &path("scenes/solids/thin-neck.json"),
+        &path("specs/thin-neck.json"),
         DVec3::ZERO,
         DVec3::ZERO,
         false,

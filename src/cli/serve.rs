@@ -1,0 +1,128 @@
+//! `rtlab serve SCENE [--port P] [--host H] [--open] [render options]`: the lab in a browser
+//! (the server itself is the library's [`crate::server`]). This face only hands the server a
+//! loader that parses a request's render options with this CLI's own parser, so every render
+//! option works on the API with the CLI's messages.
+
+use super::RenderArgs;
+use crate::error::{Error, Result};
+use crate::server::{Loader, OptionInfo, Options};
+use clap::{CommandFactory, Parser};
+use std::path::PathBuf;
+use std::sync::Arc;
+
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Scene file: native rtlab JSON or a CS1230 scenefile (watched: the page re-renders on save).
+    pub scene: PathBuf,
+    /// Port to listen on (0: any free port).
+    #[arg(long, default_value_t = 8230)]
+    pub port: u16,
+    /// Address to listen on (default 127.0.0.1, this machine only). Anything else lets other
+    /// machines reach the server: a warning is printed.
+    #[arg(long)]
+    pub host: Option<String>,
+    /// Open the page in the default browser.
+    #[arg(long)]
+    pub open: bool,
+    /// The server's render options: requests start from these and add their own.
+    #[command(flatten)]
+    pub render: RenderArgs,
+}
+
+/// The render options of one request, parsed as the CLI parses them.
+#[derive(Debug, Parser)]
+#[command(
+    name = "rtlab",
+    no_binary_name = true,
+    disable_help_flag = true,
+    disable_version_flag = true
+)]
+pub struct RequestArgs {
+    #[command(flatten)]
+    pub render: RenderArgs,
+}
+
+/// The loader of `rtlab serve`: `base` options, then a request's words (`--spp=4`).
+pub fn loader(scene: PathBuf, base: RenderArgs) -> Loader {
+    Arc::new(move |words: &[String]| {
+        let mut a = RequestArgs {
+            render: base.clone(),
+        };
+        a.try_update_from(words).map_err(|e| {
+            // The first line of what the CLI prints, without its "error: ".
+            let text = e.render().to_string();
+            let line = text.lines().next().unwrap_or("bad render option");
+            Error::Other(line.trim_start_matches("error: ").to_string())
+        })?;
+        let s = a.render.load(&scene)?;
+        a.render.check_memory(&s, &scene, s.render.spp)?;
+        Ok(s)
+    })
+}
+
+/// The render options as the page's controls, from the parser itself (a new option appears
+/// on the page by itself).
+pub fn option_infos() -> Vec<OptionInfo> {
+    let cmd = RequestArgs::command();
+    let choices = |name: &str| -> Vec<String> {
+        let v: Vec<&str> = match name {
+            "sampler" => crate::scene::SamplerKind::NAMES.to_vec(),
+            "filter" => crate::scene::FilterKind::NAMES.to_vec(),
+            "encoding" => vec!["clamp", "srgb"],
+            "accel" => vec!["linear", "bvh"],
+            _ => Vec::new(),
+        };
+        v.into_iter().map(String::from).collect()
+    };
+    cmd.get_arguments()
+        .filter_map(|a| {
+            let name = a.get_long()?.to_string();
+            let flag = !a.get_action().takes_values();
+            let mut c = choices(&name);
+            if c.is_empty() {
+                c = a
+                    .get_possible_values()
+                    .iter()
+                    .map(|p| p.get_name().to_string())
+                    .collect();
+            }
+            Some(OptionInfo {
+                help: a.get_help().map(|h| h.to_string()).unwrap_or_default(),
+                choices: if flag { Vec::new() } else { c },
+                name,
+                flag,
+            })
+        })
+        .collect()
+}
+
+pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
+    if let Some(h) = &args.host {
+        eprintln!(
+            "warning: listening on {h}: other machines that can reach this address can use the server \
+             (it answers only requests addressed to {h} or to localhost)"
+        );
+    }
+    let running = crate::server::start(Options {
+        loader: loader(args.scene.clone(), args.render.clone()),
+        options: option_infos(),
+        scene: args.scene.clone(),
+        host: args.host.clone(),
+        port: args.port,
+    })?;
+    super::emit(
+        out,
+        &format!("rtlab serve: {} (Ctrl-C to stop)\n", running.url),
+    )?;
+    let _ = out.flush();
+    if args.open {
+        // Best effort: the URL is printed either way.
+        let _ = std::process::Command::new("xdg-open")
+            .arg(&running.url)
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .spawn();
+    }
+    running.wait_for_ctrl_c();
+    Ok(())
+}

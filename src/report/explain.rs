@@ -1,0 +1,159 @@
+//! The explanation of one pixel: every sample that reaches it, each with its ray-generation
+//! walk and its ray tree, from the same tracer `render` runs. A library type, so that the CLI
+//! (`rtlab explain`), the server (`/api/explain`), `steps` and the tests share one document.
+//!
+//! Output format (DESIGN §3, version 1): `{"pixel", "color", "encoded", "samples": [{"index",
+//! "film", "weight", "color", "camera", "ray"}]}` with `ray` a [`RayNode`] tree.
+
+use crate::error::{Error, Result};
+use crate::sampling::{encode_as, sample_pixel, Filter};
+use crate::scene::Scene;
+use crate::trace::{trace_sample, RayNode, TreeRecorder};
+use glam::{DVec2, DVec3};
+use serde::Serialize;
+use std::cell::RefCell;
+use std::collections::BTreeMap;
+
+/// The ray-generation walk of one sample.
+#[derive(Debug, Clone, Serialize)]
+pub struct CameraNode {
+    pub ndc: DVec2,
+    pub film_point: DVec3,
+    pub world_point: DVec3,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct SampleNode {
+    pub index: u32,
+    /// The pixel this sample belongs to (a neighbour's when the filter reaches across).
+    pub pixel: [u32; 2],
+    pub film: DVec2,
+    /// Normalised filter weight of this sample in the explained pixel.
+    pub weight: f64,
+    pub color: DVec3,
+    pub camera: CameraNode,
+    pub ray: RayNode,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct Explanation {
+    pub pixel: [u32; 2],
+    pub color: DVec3,
+    pub encoded: [u8; 3],
+    pub samples: Vec<SampleNode>,
+}
+
+/// Explains pixel (x, y): traces every sample that reaches it with a [`TreeRecorder`] and
+/// reconstructs the pixel with the same filter code `render` uses.
+pub fn explain(scene: &Scene, x: u32, y: u32) -> Explanation {
+    let s = &scene.render;
+    let (w, h) = (scene.camera.width, scene.camera.height);
+    let traced: RefCell<BTreeMap<(u32, u32, u32), SampleNode>> = RefCell::new(BTreeMap::new());
+    let filter = Filter::for_settings(s);
+    let (color, weights) = crate::sampling::render_reconstruct(&filter, x, y, w, h, |qx, qy| {
+        sample_pixel(s, w, h, qx, qy, |k, film| {
+            let mut rec = TreeRecorder::new(scene);
+            let r = trace_sample(scene, s, qx, qy, k, film, &mut rec);
+            let color = if r.color.is_finite() {
+                r.color
+            } else {
+                DVec3::ZERO
+            };
+            let g = r.generation;
+            traced.borrow_mut().insert(
+                (qy, qx, k),
+                SampleNode {
+                    index: k,
+                    pixel: [qx, qy],
+                    film,
+                    weight: 0.0,
+                    color,
+                    camera: CameraNode {
+                        ndc: g.ndc,
+                        film_point: g.film_point,
+                        world_point: g.world_point,
+                    },
+                    ray: rec.root.expect("a camera ray was traced"),
+                },
+            );
+            color
+        })
+        .into_iter()
+        .map(|p| (p.film, p.color, p.area))
+        .collect()
+    });
+    let mut traced = traced.into_inner();
+    let samples = weights
+        .into_iter()
+        .filter_map(|(qx, qy, k, wt)| {
+            let mut node = traced.remove(&(qy, qx, k as u32))?;
+            node.weight = wt;
+            Some(node)
+        })
+        .collect();
+    Explanation {
+        pixel: [x, y],
+        color,
+        encoded: encode_as(color, s.encoding, s.mistakes),
+        samples,
+    }
+}
+
+/// Parses and checks `--pixel X,Y` against the image size.
+pub fn parse_pixel(s: &str, width: u32, height: u32) -> Result<(u32, u32)> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    let bad = || {
+        Error::arg(
+            "--pixel",
+            format!("expected two whole numbers X,Y (e.g. --pixel 120,80), found \"{s}\""),
+        )
+    };
+    if parts.len() != 2 {
+        return Err(bad());
+    }
+    let x: i64 = parts[0].parse().map_err(|_| bad())?;
+    let y: i64 = parts[1].parse().map_err(|_| bad())?;
+    if x < 0 || y < 0 || x >= width as i64 || y >= height as i64 {
+        return Err(Error::arg(
+            "--pixel",
+            format!(
+                "({x}, {y}) is outside the {width}×{height} image (x must be 0..{}, y 0..{})",
+                width - 1,
+                height - 1
+            ),
+        ));
+    }
+    Ok((x as u32, y as u32))
+}
+
+/// A copy of an explain document rounded for snapshot tests (DESIGN §5): colours to 3
+/// decimals, everything else (positions, t, weights) to 4, and −0.0 written as 0.0.
+pub fn rounded(value: &serde_json::Value) -> serde_json::Value {
+    fn walk(v: &serde_json::Value, digits: i32) -> serde_json::Value {
+        use serde_json::Value;
+        match v {
+            Value::Number(n) if n.is_f64() => {
+                let x = n.as_f64().unwrap_or(0.0);
+                let s = 10f64.powi(digits);
+                let r = (x * s).round() / s;
+                let r = if r == 0.0 { 0.0 } else { r };
+                serde_json::json!(r)
+            }
+            Value::Array(a) => Value::Array(a.iter().map(|x| walk(x, digits)).collect()),
+            Value::Object(m) => Value::Object(
+                m.iter()
+                    .map(|(k, x)| {
+                        let d = match k.as_str() {
+                            "color" | "ambient" | "diffuse" | "specular" | "reflected"
+                            | "transmitted" => 3,
+                            _ => digits,
+                        };
+                        (k.clone(), walk(x, d))
+                    })
+                    .collect(),
+            ),
+            other => other.clone(),
+        }
+    }
+    walk(value, 4)
+}

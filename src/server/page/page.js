@@ -1,0 +1,554 @@
+// rtlab serve: the page. Plain JavaScript, no build step, nothing fetched but this server's
+// API. Sections: state and helpers · controls · image view · render · explanation (samples,
+// ray generation, ledger, diagram, ray tree) · steps · compare · live scene.
+"use strict";
+
+const $ = (id) => document.getElementById(id);
+const STREAM = "page-" + Math.random().toString(36).slice(2);
+const PRIMARY = ["no-shadows", "no-reflections", "no-refractions", "no-textures", "max-depth",
+  "spp", "sampler", "filter", "course-stage", "mistake"];
+
+const state = {
+  image: null,          // ImageBitmap of the image shown
+  pixels: null,         // its RGBA bytes (ImageData)
+  kind: "",             // "preview" or "full"
+  width: 0, height: 0,
+  zoom: 1, panX: 0, panY: 0, fitted: true,
+  selected: null,       // {x, y}
+  explanation: null,
+  sample: 0,            // index into explanation.samples
+  highlight: null,      // preorder index of the ray drawn in bold
+  generation: 0,        // counts re-renders; stale answers are dropped
+  version: 0,
+  controller: null,
+};
+
+function el(tag, attrs, ...kids) {
+  const e = document.createElement(tag);
+  for (const [k, v] of Object.entries(attrs || {})) {
+    if (k === "class") e.className = v;
+    else if (k.startsWith("on")) e.addEventListener(k.slice(2), v);
+    else e.setAttribute(k, v);
+  }
+  for (const k of kids) e.append(k instanceof Node ? k : document.createTextNode(String(k)));
+  return e;
+}
+
+// Numbers as the CLI's text shows them: short, no noise.
+function num(x) {
+  if (x === null || x === undefined) return "—";
+  if (x === 0) return "0";
+  const a = Math.abs(x);
+  if (a < 1e-4 || a >= 1e6) return x.toExponential(2);
+  return String(Number(x.toPrecision(5)));
+}
+const vec = (v) => "(" + v.map(num).join(", ") + ")";
+const rgbCss = (c) => `rgb(${c.map((x) => Math.round(255 * Math.min(1, Math.max(0, x)))).join(",")})`;
+const swatch = (c) => el("span", { class: "swatch", style: "background:" + rgbCss(c) });
+const add = (a, b) => [a[0] + b[0], a[1] + b[1], a[2] + b[2]];
+const scale = (a, s) => [a[0] * s, a[1] * s, a[2] * s];
+
+async function getText(url) {
+  const r = await fetch(url);
+  const t = await r.text();
+  if (!r.ok) throw new Error(t.trim());
+  return t;
+}
+async function getJson(url) { return JSON.parse(await getText(url)); }
+
+// ---------------------------------------------------------------- controls
+let options = { render: [], aov: [] };
+
+async function buildControls() {
+  options = await getJson("/api/options");
+  const sw = $("switches"), more = $("more");
+  sw.textContent = ""; more.textContent = "";
+  const byName = new Map(options.render.map((o) => [o.name, o]));
+  const ordered = PRIMARY.filter((n) => byName.has(n)).map((n) => byName.get(n));
+  for (const o of options.render) if (!PRIMARY.includes(o.name)) ordered.push(o);
+  for (const o of ordered) {
+    const target = PRIMARY.includes(o.name) ? sw : more;
+    let input;
+    if (o.flag) {
+      input = el("input", { type: "checkbox", "data-option": o.name });
+    } else if (o.choices.length) {
+      input = el("select", { "data-option": o.name }, el("option", { value: "" }, "(scene's)"),
+        ...o.choices.map((c) => el("option", { value: c }, c)));
+    } else {
+      input = el("input", { type: "text", "data-option": o.name, placeholder: "scene's" });
+    }
+    input.id = "opt-" + o.name;
+    input.addEventListener("change", rerender);
+    target.append(el("label", { title: o.help }, input, o.flag ? o.name : o.name + " "));
+    if (!o.flag) target.lastChild.append(input); // value field after its name
+  }
+  const aov = el("select", { id: "opt-aov" }, el("option", { value: "" }, "colour"),
+    ...options.aov.map((a) => el("option", { value: a }, a)));
+  aov.addEventListener("change", rerender);
+  sw.append(el("label", { title: "an arbitrary output variable instead of the colour (render --aov)" }, "AOV ", aov));
+}
+
+// The render options chosen on the page, as a query string (flags as bare keys).
+function renderQuery() {
+  const parts = [];
+  for (const input of document.querySelectorAll("[data-option]")) {
+    const name = input.dataset.option;
+    if (input.type === "checkbox") { if (input.checked) parts.push(encodeURIComponent(name)); }
+    else if (input.value.trim() !== "") parts.push(encodeURIComponent(name) + "=" + encodeURIComponent(input.value.trim()));
+  }
+  return parts.join("&");
+}
+const join = (...qs) => qs.filter((q) => q).join("&");
+
+// ---------------------------------------------------------------- image view
+const view = $("view");
+const ctx = view.getContext("2d");
+
+function fit() {
+  if (!state.width) return;
+  const vw = $("viewport").clientWidth;
+  view.width = vw;
+  view.height = Math.round(vw * state.height / state.width);
+  state.zoom = view.width / state.width;
+  state.panX = 0; state.panY = 0; state.fitted = true;
+  draw();
+}
+
+function draw() {
+  ctx.imageSmoothingEnabled = false;
+  ctx.clearRect(0, 0, view.width, view.height);
+  if (!state.image) return;
+  const z = state.zoom;
+  ctx.drawImage(state.image, state.panX, state.panY, state.width * z, state.height * z);
+  if (z >= 8) { // the pixel grid
+    ctx.strokeStyle = "rgba(255,255,255,0.25)";
+    ctx.lineWidth = 1;
+    ctx.beginPath();
+    const x0 = Math.max(0, Math.floor(-state.panX / z)), x1 = Math.min(state.width, Math.ceil((view.width - state.panX) / z));
+    const y0 = Math.max(0, Math.floor(-state.panY / z)), y1 = Math.min(state.height, Math.ceil((view.height - state.panY) / z));
+    for (let x = x0; x <= x1; x++) { const px = Math.round(state.panX + x * z) + 0.5; ctx.moveTo(px, state.panY + y0 * z); ctx.lineTo(px, state.panY + y1 * z); }
+    for (let y = y0; y <= y1; y++) { const py = Math.round(state.panY + y * z) + 0.5; ctx.moveTo(state.panX + x0 * z, py); ctx.lineTo(state.panX + x1 * z, py); }
+    ctx.stroke();
+  }
+  if (state.selected) {
+    const { x, y } = state.selected;
+    const s = Math.max(z, 6);
+    ctx.strokeStyle = "#ffd400"; ctx.lineWidth = 2;
+    ctx.strokeRect(state.panX + (x + 0.5) * z - s / 2 - 1, state.panY + (y + 0.5) * z - s / 2 - 1, s + 2, s + 2);
+  }
+  $("zoom-level").textContent = (z >= 1 ? Math.round(z * 10) / 10 : z.toFixed(2)) + "×";
+}
+
+// Canvas-pixel position of a mouse event → image pixel (or null outside the image).
+function pixelAt(ev) {
+  const r = view.getBoundingClientRect();
+  const cx = (ev.clientX - r.left) * view.width / r.width, cy = (ev.clientY - r.top) * view.height / r.height;
+  const x = Math.floor((cx - state.panX) / state.zoom), y = Math.floor((cy - state.panY) / state.zoom);
+  return x >= 0 && y >= 0 && x < state.width && y < state.height ? { x, y, cx, cy } : null;
+}
+
+function zoomAt(factor, cx, cy) {
+  const z = Math.min(64, Math.max(0.25, state.zoom * factor));
+  state.panX = cx - (cx - state.panX) * z / state.zoom;
+  state.panY = cy - (cy - state.panY) * z / state.zoom;
+  state.zoom = z; state.fitted = false;
+  draw();
+}
+
+let drag = null;
+view.addEventListener("mousedown", (ev) => { drag = { x: ev.clientX, y: ev.clientY, panX: state.panX, panY: state.panY, moved: false }; });
+window.addEventListener("mouseup", () => { setTimeout(() => { drag = null; }, 0); });
+view.addEventListener("mousemove", (ev) => {
+  if (drag && (ev.buttons & 1)) {
+    const r = view.getBoundingClientRect(), k = view.width / r.width;
+    const dx = (ev.clientX - drag.x) * k, dy = (ev.clientY - drag.y) * k;
+    if (Math.abs(dx) + Math.abs(dy) > 3) drag.moved = true;
+    if (drag.moved) { state.panX = drag.panX + dx; state.panY = drag.panY + dy; state.fitted = false; draw(); }
+  }
+  const p = pixelAt(ev);
+  if (!p || !state.pixels) { $("readout").textContent = "—"; return; }
+  const i = 4 * (p.y * state.width + p.x), d = state.pixels.data;
+  $("readout").textContent = `(${p.x}, ${p.y})  bytes ${d[i]}, ${d[i + 1]}, ${d[i + 2]}  ${state.kind}`;
+});
+view.addEventListener("click", (ev) => {
+  if (drag && drag.moved) return;
+  const p = pixelAt(ev);
+  if (p) select(p.x, p.y);
+});
+view.addEventListener("wheel", (ev) => {
+  ev.preventDefault();
+  const r = view.getBoundingClientRect();
+  zoomAt(ev.deltaY < 0 ? 1.25 : 0.8, (ev.clientX - r.left) * view.width / r.width, (ev.clientY - r.top) * view.height / r.height);
+}, { passive: false });
+$("zoom-in").addEventListener("click", () => zoomAt(2, view.width / 2, view.height / 2));
+$("zoom-out").addEventListener("click", () => zoomAt(0.5, view.width / 2, view.height / 2));
+$("zoom-fit").addEventListener("click", fit);
+window.addEventListener("resize", () => { if (state.fitted) fit(); });
+
+// ---------------------------------------------------------------- render
+async function loadImage(url, signal) {
+  const r = await fetch(url, { signal });
+  if (r.status === 409) return null; // superseded by a newer render of ours
+  if (!r.ok) throw new Error((await r.text()).trim());
+  const bmp = await createImageBitmap(await r.blob(), { colorSpaceConversion: "none", premultiplyAlpha: "none" });
+  return bmp;
+}
+
+function show(bmp, kind, query) {
+  const sized = bmp.width !== state.width || bmp.height !== state.height;
+  state.image = bmp; state.kind = kind;
+  state.width = bmp.width; state.height = bmp.height;
+  const off = new OffscreenCanvas(bmp.width, bmp.height);
+  const octx = off.getContext("2d");
+  octx.drawImage(bmp, 0, 0);
+  state.pixels = octx.getImageData(0, 0, bmp.width, bmp.height, { colorSpace: "srgb" });
+  view.dataset.state = kind;
+  view.dataset.query = query;
+  if (sized || state.fitted) fit(); else draw();
+}
+
+function setStatus(text, error) {
+  const s = $("render-state");
+  s.textContent = text;
+  s.className = error ? "error" : "";
+}
+
+// Coarse preview first (every 8th pixel traced), then the full image; the selected pixel's
+// explanation follows. A newer call makes older answers stale (and cancels them on the server).
+async function rerender() {
+  const my = ++state.generation;
+  if (state.controller) state.controller.abort();
+  const controller = new AbortController();
+  state.controller = controller;
+  const q = renderQuery();
+  const aov = $("opt-aov") ? $("opt-aov").value : "";
+  const own = join(aov ? "aov=" + encodeURIComponent(aov) : "", "stream=" + STREAM);
+  const stale = () => my !== state.generation;
+  view.dataset.state = "rendering";
+  try {
+    const t0 = performance.now();
+    if (!/(^|&)subsample=/.test(q) && !aov) {
+      setStatus("preview (every 8th pixel)…");
+      const p = await loadImage("/api/render.png?" + join(q, "subsample=8", own), controller.signal);
+      if (stale()) return;
+      if (p) show(p, "preview", q);
+    }
+    setStatus("rendering the full image…");
+    const img = await loadImage("/api/render.png?" + join(q, own), controller.signal);
+    if (stale() || !img) return;
+    show(img, "full", q);
+    setStatus(`full image, ${state.width}×${state.height}, ${Math.round(performance.now() - t0)} ms` + (q ? "  ·  " + q : ""));
+    loadSceneInfo(q);
+    if (state.selected) explain();
+    if (!$("steps").hidden) loadSteps();
+  } catch (e) {
+    if (e.name === "AbortError" || stale()) return;
+    view.dataset.state = "error";
+    setStatus(e.message, true);
+  }
+}
+
+async function loadSceneInfo(q) {
+  try {
+    const s = await getJson("/api/scene?" + q);
+    $("scene-name").textContent = s.file.split(/[\\/]/).pop();
+    $("scene-name").title = s.file + " (watched: save it to re-render)";
+    const obj = s.objects.map((o) => `${o.name} (${o.shape}, ${o.material})`).join(", ");
+    const lights = s.lights.map((l) => `${l.name} (${l.kind})`).join(", ");
+    $("scene-info").textContent = `${s.width}×${s.height}, ${s.render.spp} spp ${s.render.sampler}, max depth ${s.render.max_depth} · objects: ${obj} · lights: ${lights} · ${s.materials.length} material(s)`;
+  } catch (e) { /* the render's own message is already shown */ }
+}
+
+// ---------------------------------------------------------------- explanation
+function select(x, y) {
+  state.selected = { x, y };
+  state.highlight = null;
+  draw();
+  explain();
+}
+
+async function explain() {
+  const { x, y } = state.selected;
+  const q = renderQuery();
+  const my = state.generation;
+  try {
+    const e = await getJson(`/api/explain?${join(`x=${x}&y=${y}`, q)}`);
+    if (my !== state.generation) return;
+    state.explanation = e;
+    const own = e.samples.findIndex((s) => s.pixel[0] === x && s.pixel[1] === y);
+    state.sample = Math.max(0, own);
+    showExplanation();
+  } catch (err) {
+    $("explain-empty").hidden = false;
+    $("explain-empty").className = "error";
+    $("explain-empty").textContent = err.message;
+    $("explanation").hidden = true;
+  }
+}
+
+// The colour a ray's ledger adds up to: ambient + Σ lights (diffuse + specular) + reflected
+// + transmitted, clamped when the tracer clamped it. A miss is the background.
+function ledgerSum(ray) {
+  const s = ray.shading;
+  if (!s) return ray.color;
+  let c = s.ambient;
+  for (const l of s.lights) c = add(c, add(l.diffuse, l.specular));
+  c = add(add(c, s.reflected), s.transmitted);
+  if (ray.clamped) c = c.map((v) => Math.min(1, Math.max(0, v)));
+  return c;
+}
+
+function showExplanation() {
+  const e = state.explanation;
+  $("explain-empty").hidden = true;
+  $("explanation").hidden = false;
+  const [x, y] = e.pixel;
+  $("px-title").textContent = `Pixel (${x}, ${y})`;
+  $("px-summary").replaceChildren(swatch(e.color), ` colour ${vec(e.color)} → bytes ${e.encoded.join(", ")}`);
+  showSamples(e);
+  const s = e.samples[state.sample];
+  if (!s) { $("generation").textContent = "this pixel traces no samples of its own"; return; }
+  showGeneration(s);
+  showLedger(s);
+  showDiagram();
+  $("tree").replaceChildren(rayTree(s.ray, { n: 0 }));
+}
+
+function showSamples(e) {
+  const rows = [];
+  let sum = [0, 0, 0];
+  e.samples.forEach((s, i) => {
+    const c = ledgerSum(s.ray);
+    sum = add(sum, scale(c, s.weight));
+    const tr = el("tr", { class: i === state.sample ? "sel" : "" },
+      el("td", {}, el("input", { type: "radio", name: "sample", ...(i === state.sample ? { checked: "" } : {}),
+        onchange: () => { state.sample = i; state.highlight = null; showExplanation(); } })),
+      el("td", {}, `${s.index}` + (s.pixel[0] !== e.pixel[0] || s.pixel[1] !== e.pixel[1] ? ` of (${s.pixel})` : "")),
+      el("td", { class: "num" }, vec(s.film)),
+      el("td", { class: "num" }, num(s.weight)),
+      el("td", { class: "num" }, swatch(c), " ", vec(c)));
+    rows.push(tr);
+  });
+  const total = el("tr", { class: "sum" }, el("td", {}), el("td", { colspan: 3 }, "pixel = Σ weight × sample colour"),
+    el("td", { class: "num", id: "pixel-sum", "data-rgb": sum.join(",") }, swatch(sum), " ", vec(sum)));
+  $("samples").replaceChildren(el("table", {},
+    el("tr", {}, el("th", {}), el("th", {}, "sample"), el("th", {}, "film point"), el("th", {}, "weight"), el("th", {}, "colour (its ledger's sum)")),
+    ...rows, total),
+    el("p", { class: "hint" }, `bytes: ${e.encoded.join(", ")} (the pixel's colour encoded as the render encodes it)`));
+}
+
+function showGeneration(s) {
+  const r = s.ray, c = s.camera;
+  $("generation").replaceChildren(el("ol", {},
+    el("li", {}, `sample point on the film: ${vec(s.film)} (pixel ${s.pixel[0]}, ${s.pixel[1]} plus the sampler's offset)`),
+    el("li", {}, `normalised device coordinates, x and y scaled to [−1, 1]: ${vec(c.ndc)}`),
+    el("li", {}, `on the canonical view volume's far plane z = −1: ${vec(c.film_point)}`),
+    el("li", {}, `back to world space by the inverse normalising transformation: ${vec(c.world_point)}`),
+    el("li", {}, `eye P = ${vec(r.origin)}, direction d = normalise(world point − P) = ${vec(r.direction)}`),
+    el("li", {}, `points on the ray: P + t·d, t ≥ 0`)));
+}
+
+function showLedger(s) {
+  const r = s.ray;
+  if (!r.shading) {
+    $("ledger").replaceChildren(el("p", {}, `The camera ray misses everything: the background ${vec(r.color)}.`));
+    return;
+  }
+  const sh = r.shading, rows = [];
+  const row = (term, how, c, cls) => rows.push(el("tr", { class: cls || "" }, el("td", {}, term), el("td", {}, how), el("td", { class: "num" }, swatch(c), " ", vec(c))));
+  row("ambient", "ka·La·Oa", sh.ambient);
+  for (const l of sh.lights) {
+    const vis = l.visible ? (l.visibility < 1 ? `, ${num(l.visibility)} of it visible` : "") : ", in shadow";
+    row(`light ${l.light}: diffuse`, `f_att ${num(l.attenuation)} · n·l ${num(l.n_dot_l)}${l.spot !== 1 ? " · spot " + num(l.spot) : ""}${vis}`, l.diffuse);
+    row(`light ${l.light}: specular`, `(r·v)^n = ${num(l.r_dot_v)}^n = ${num(l.r_dot_v_pow)}`, l.specular);
+  }
+  for (const l of sh.ignored_lights || []) row(`light ${l.light} (ignored)`, "left out by the settings: not added", add(l.diffuse, l.specular), "ignored");
+  row("reflected", "ks·Or·I_r (the reflection ray's colour × its weight)", sh.reflected);
+  row("transmitted", "kt·Ot·I_t (the refraction ray's colour × its weight)", sh.transmitted);
+  const sum = ledgerSum(r);
+  rows.push(el("tr", { class: "sum" }, el("td", {}, "sum"), el("td", {}, r.clamped ? "clamped to [0, 1]" : "= this sample's colour"),
+    el("td", { class: "num", id: "ledger-sum", "data-rgb": sum.join(",") }, swatch(sum), " ", vec(sum))));
+  $("ledger").replaceChildren(el("table", {}, ...rows),
+    el("p", { class: "hint" }, `hit ${r.hit.object} at t = ${num(r.hit.t)}; the tracer's colour for this ray: ${vec(r.color)}`));
+}
+
+function showDiagram() {
+  const { x, y } = state.selected;
+  const hl = state.highlight === null ? "" : `highlight=${state.highlight}`;
+  $("diagram").src = `/api/diagram.png?${join(`x=${x}&y=${y}`, "plane=" + $("plane").value, hl, renderQuery())}`;
+}
+$("plane").addEventListener("change", () => { if (state.selected) showDiagram(); });
+
+function rayTitle(r) {
+  const kind = { camera: "camera ray", shadow: "shadow ray", reflection: "reflection ray", refraction: "refraction ray", transmission: "transmission ray" }[r.kind] || r.kind;
+  let what;
+  if (r.kind === "shadow") what = r.hit ? `blocked by ${r.hit.object} at t = ${num(r.hit.t)}` : "reaches the light";
+  else if (r.hit) what = `hits ${r.hit.object} at t = ${num(r.hit.t)}`;
+  else what = "misses: background";
+  const end = { miss: "", blocked: "", shaded: "", max_depth: ", stops: maximum depth", cutoff: ", stops: contribution too small", total_internal_reflection: ", total internal reflection" }[r.end] ?? (r.end ? ", " + r.end : "");
+  return `${kind}, depth ${r.depth}${r.channel ? " (" + r.channel + ")" : ""}: ${what}${end}`;
+}
+
+// The ray tree, numbered in the order the tracer cast the rays (the diagram's order).
+function rayTree(r, counter) {
+  const k = counter.n++;
+  const label = el("span", { class: "ray-label" + (state.highlight === k ? " highlighted" : ""), "data-ray": k, title: "draw this ray in bold in the diagram" }, `#${k + 1} ${rayTitle(r)}`);
+  label.addEventListener("click", (ev) => {
+    ev.preventDefault();
+    state.highlight = state.highlight === k ? null : k;
+    document.querySelectorAll(".ray-label").forEach((l) => l.classList.toggle("highlighted", Number(l.dataset.ray) === state.highlight));
+    showDiagram();
+  });
+  const d = el("details", { class: "ray " + r.kind, open: "" }, el("summary", {}, label, " ", swatch(r.color)));
+  d.append(el("div", { class: "mono hint" }, `P = ${vec(r.origin)}, d = ${vec(r.direction)}${r.weight ? ", weight " + vec(r.weight) : ""}, colour ${vec(r.color)}`));
+  for (const t of r.tests) d.append(testWorking(t, r.hit));
+  if (r.hit) {
+    const h = r.hit;
+    d.append(el("div", {}, `hit: point ${vec(h.point)}, normal ${vec(h.normal)} (${h.surface}); object space: point ${vec(h.object_space.point)}, normal ${vec(h.object_space.normal)}` +
+      (h.barycentric ? `; barycentric (α, β, γ) = ${vec(h.barycentric)}` : "")));
+  }
+  for (const c of r.children) d.append(rayTree(c, counter));
+  return d;
+}
+
+// One intersection test with its working: the quadratic, D and the roots; each candidate t
+// kept or tossed and why; Cramer's rule for triangles.
+function testWorking(t, hit) {
+  const won = hit && hit.object === t.object && t.t !== null && Math.abs(t.t - hit.t) < 1e-12;
+  const summary = `test ${t.object} (${t.shape}): ` + (t.t === null ? "no hit" : `t = ${num(t.t)}`) + (won ? " — closest, the hit" : "");
+  const d = el("details", { class: "test" }, el("summary", {}, summary));
+  if (t.quadratic) {
+    const q = t.quadratic;
+    const verdict = { two: "two real roots", tangent: q.rounded_to_zero ? "tangent (D was tiny and taken as 0)" : "tangent (D = 0)", one: "a = 0: linear, one root", none: "D < 0: no real root, the ray misses" }[q.roots] || q.roots;
+    d.append(el("div", { class: "mono" }, `${q.surface}: a t² + b t + c = 0 with a = ${num(q.a)}, b = ${num(q.b)}, c = ${num(q.c)}`),
+      el("div", { class: "mono" }, `D = b² − 4ac = ${num(q.discriminant)} → ${verdict}`));
+  }
+  if (t.barycentric) {
+    const b = t.barycentric;
+    d.append(el("div", { class: "mono" }, `Cramer's rule: det = ${num(b.determinant)}, β = ${num(b.beta)}, γ = ${num(b.gamma)}, α = 1 − β − γ = ${num(b.alpha)}, t = ${num(b.t)}` +
+      " (inside iff β ≥ 0, γ ≥ 0, β + γ ≤ 1)"));
+  }
+  if (t.triangles_tested !== undefined) d.append(el("div", {}, `${t.triangles_tested} triangle(s) tested` + (t.mesh_bvh_nodes !== undefined ? `, ${t.mesh_bvh_nodes} mesh BVH nodes` : "")));
+  if (t.candidates.length) {
+    d.append(el("ul", {}, ...t.candidates.map((c) => {
+      const kept = c.note.startsWith("kept");
+      return el("li", { class: kept ? "kept" : "tossed" }, `t = ${num(c.t)} on ${c.surface}, point ${vec(c.point)}: ${c.note}`);
+    })));
+  }
+  if (t.csg) d.append(el("pre", { class: "mono" }, JSON.stringify(t.csg, null, 1).slice(0, 4000)));
+  if (t.blob) d.append(el("div", { class: "hint" }, "blob: root search recorded (see rtlab explain --format text)"));
+  return d;
+}
+
+// ---------------------------------------------------------------- steps
+let steps = [];
+async function loadSteps() {
+  try {
+    $("steps-caption").textContent = "rendering the steps…";
+    steps = await getJson("/api/steps?" + renderQuery());
+    const s = $("steps-slider");
+    s.max = String(Math.max(0, steps.length - 1));
+    if (Number(s.value) > steps.length - 1) s.value = "0";
+    showStep();
+  } catch (e) { $("steps-caption").textContent = e.message; }
+}
+function showStep() {
+  const i = Number($("steps-slider").value);
+  if (!steps[i]) return;
+  $("steps-count").textContent = `${i + 1} / ${steps.length}`;
+  $("steps-caption").textContent = steps[i].caption;
+  $("steps-frame").src = `/api/steps/frame.png?${join("i=" + i, renderQuery())}`;
+}
+$("steps-slider").addEventListener("input", showStep);
+let playing = null;
+$("steps-play").addEventListener("click", () => {
+  if (playing) { clearInterval(playing); playing = null; $("steps-play").textContent = "play"; return; }
+  $("steps-play").textContent = "pause";
+  playing = setInterval(() => {
+    const s = $("steps-slider");
+    s.value = String((Number(s.value) + 1) % Math.max(1, steps.length));
+    showStep();
+  }, 1200);
+});
+
+// ---------------------------------------------------------------- compare
+async function runCompare() {
+  $("cmp-error").textContent = "";
+  const base = renderQuery();
+  try {
+    const [a, b] = await Promise.all(["cmp-a", "cmp-b"].map((id) => loadImage("/api/render.png?" + join(base, $(id).value.trim()))));
+    if (!a || !b) return;
+    const put = (img, bmp) => { const c = document.createElement("canvas"); c.width = bmp.width; c.height = bmp.height; c.getContext("2d").drawImage(bmp, 0, 0); img.src = c.toDataURL(); return c.getContext("2d").getImageData(0, 0, bmp.width, bmp.height); };
+    const da = put($("cmp-img-a"), a), db = put($("cmp-img-b"), b);
+    const diff = $("cmp-diff");
+    diff.width = a.width; diff.height = a.height;
+    const out = diff.getContext("2d").createImageData(a.width, a.height);
+    let count = 0;
+    for (let i = 0; i < da.data.length; i += 4) {
+      let any = false;
+      for (let c = 0; c < 3; c++) { const v = Math.abs(da.data[i + c] - db.data[i + c]); out.data[i + c] = Math.min(255, 4 * v); any = any || v > 0; }
+      out.data[i + 3] = 255; count += any;
+    }
+    diff.getContext("2d").putImageData(out, 0, 0);
+    $("cmp-count").textContent = `(${count} of ${a.width * a.height} pixels differ)`;
+  } catch (e) { $("cmp-error").textContent = e.message; }
+}
+$("cmp-run").addEventListener("click", runCompare);
+
+// ---------------------------------------------------------------- modes, live scene
+for (const b of document.querySelectorAll("nav button")) {
+  b.addEventListener("click", () => {
+    document.querySelectorAll("nav button").forEach((x) => x.classList.toggle("on", x === b));
+    for (const m of ["explore", "steps", "compare"]) $(m).hidden = m !== b.dataset.mode;
+    if (b.dataset.mode === "steps") loadSteps();
+    if (b.dataset.mode === "compare") runCompare();
+    if (b.dataset.mode === "explore" && state.fitted) fit();
+  });
+}
+$("big").addEventListener("change", () => document.body.classList.toggle("big", $("big").checked));
+
+function listen() {
+  const events = new EventSource("/api/events");
+  events.addEventListener("scene", (ev) => {
+    const s = JSON.parse(ev.data);
+    const banner = $("scene-error");
+    if (s.error) {
+      banner.hidden = false;
+      banner.textContent = s.error + "\n(the last good image stays; fix the file and save)";
+      document.body.dataset.sceneError = "1";
+      return;
+    }
+    banner.hidden = true;
+    delete document.body.dataset.sceneError;
+    if (s.version !== state.version) {
+      const first = state.version === 0;
+      state.version = s.version;
+      document.body.dataset.version = String(s.version);
+      if (!first) rerender();
+    }
+  });
+}
+
+// Hooks for the browser tests (and the curious): the shown image's bytes, base64 RGB.
+window.rtlab = {
+  state,
+  rgbBase64() {
+    const d = state.pixels.data, out = new Uint8Array(d.length / 4 * 3);
+    for (let i = 0, j = 0; i < d.length; i += 4) { out[j++] = d[i]; out[j++] = d[i + 1]; out[j++] = d[i + 2]; }
+    let s = "";
+    for (let i = 0; i < out.length; i += 0x8000) s += String.fromCharCode.apply(null, out.subarray(i, i + 0x8000));
+    return btoa(s);
+  },
+  // Client coordinates of pixel (x, y)'s centre, for a real click there.
+  clientPoint(x, y) {
+    const r = view.getBoundingClientRect();
+    return [r.left + (state.panX + (x + 0.5) * state.zoom) * r.width / view.width,
+      r.top + (state.panY + (y + 0.5) * state.zoom) * r.height / view.height];
+  },
+};
+
+(async function start() {
+  try { await buildControls(); } catch (e) { setStatus(e.message, true); }
+  listen();
+  await rerender();
+})();

@@ -1,0 +1,344 @@
+//! The API's handlers. Each parses its query ([`super::params`]), then does its work on a
+//! blocking thread (at most [`State::jobs`] at once), and answers with the bytes the CLI
+//! would write, or with the CLI's one-line message: 400 for a bad parameter, 422 for a scene
+//! that does not load, 409 for a render a newer one superseded, 500 if anything panicked.
+
+use super::params::{self, Params};
+use super::state::State;
+use crate::error::Error;
+use crate::sampling::aov::{render_aov, Aov};
+use crate::scene::Scene;
+use axum::body::Body;
+use axum::extract::{RawQuery, Request};
+use axum::http::{header, StatusCode};
+use axum::response::sse::{Event, KeepAlive, Sse};
+use axum::response::{IntoResponse, Response};
+use axum::routing::get;
+use axum::Router;
+use std::sync::Arc;
+
+type St = axum::extract::State<Arc<State>>;
+
+/// What a handler's work produced: (content type, bytes) or an answer with a status.
+type Answer = std::result::Result<(&'static str, Vec<u8>), Fail>;
+
+pub enum Fail {
+    Error(Error),
+    Status(StatusCode, String),
+}
+
+impl From<Error> for Fail {
+    fn from(e: Error) -> Fail {
+        Fail::Error(e)
+    }
+}
+
+pub fn router(state: Arc<State>) -> Router {
+    Router::new()
+        .route("/api/scene", get(scene))
+        .route("/api/options", get(options))
+        .route("/api/status", get(status))
+        .route("/api/explain", get(explain))
+        .route("/api/diagram.png", get(diagram))
+        .route("/api/render.png", get(render))
+        .route("/api/steps", get(steps))
+        .route("/api/steps/frame.png", get(step_frame))
+        .route("/api/events", get(events))
+        .fallback(asset)
+        .layer(axum::middleware::from_fn_with_state(
+            state.clone(),
+            super::security::guard,
+        ))
+        .with_state(state)
+}
+
+async fn asset(req: Request<Body>) -> Response {
+    match super::assets::get(req.uri().path()) {
+        Some((kind, body)) => ([(header::CONTENT_TYPE, kind)], body).into_response(),
+        None => super::security::refuse(StatusCode::NOT_FOUND, "no such page"),
+    }
+}
+
+/// Runs `work` on a blocking thread and turns its result into a response.
+async fn run<F>(state: Arc<State>, work: F) -> Response
+where
+    F: FnOnce(&State) -> Answer + Send + 'static,
+{
+    let Ok(_permit) = state.jobs.acquire().await else {
+        return super::security::refuse(StatusCode::SERVICE_UNAVAILABLE, "shutting down");
+    };
+    let st = state.clone();
+    match tokio::task::spawn_blocking(move || work(&st)).await {
+        Ok(Ok((kind, bytes))) => (
+            [
+                (header::CONTENT_TYPE, kind),
+                (header::CACHE_CONTROL, "no-store"),
+            ],
+            bytes,
+        )
+            .into_response(),
+        Ok(Err(Fail::Status(code, msg))) => super::security::refuse(code, &msg),
+        Ok(Err(Fail::Error(e))) => {
+            let code = match e {
+                Error::Input { .. } | Error::Io { .. } => StatusCode::UNPROCESSABLE_ENTITY,
+                _ => StatusCode::BAD_REQUEST,
+            };
+            super::security::refuse(code, &e.to_string())
+        }
+        Err(_) => super::security::refuse(
+            StatusCode::INTERNAL_SERVER_ERROR,
+            "the request failed unexpectedly (a bug in rtlab)",
+        ),
+    }
+}
+
+/// Parses the query, answering 400 on a bad one.
+fn query(raw: &Option<String>, own: &[&str]) -> std::result::Result<Params, Response> {
+    params::parse(raw.as_deref(), own)
+        .map_err(|e| super::security::refuse(StatusCode::BAD_REQUEST, &e.to_string()))
+}
+
+fn json(v: &impl serde::Serialize) -> Answer {
+    Ok((
+        "application/json",
+        (serde_json::to_string_pretty(v).expect("serialisable") + "\n").into_bytes(),
+    ))
+}
+
+fn png(img: &image::RgbImage) -> Answer {
+    crate::output::png_bytes(img)
+        .map(|b| ("image/png", b))
+        .map_err(|m| Fail::Status(StatusCode::INTERNAL_SERVER_ERROR, m))
+}
+
+fn lower_debug(v: impl std::fmt::Debug) -> String {
+    let s = format!("{v:?}");
+    let word: String = s.chars().take_while(|c| c.is_alphanumeric()).collect();
+    word.to_ascii_lowercase()
+}
+
+/// `GET /api/scene`: the objects, lights, materials and size of the scene (with options).
+async fn scene(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Response {
+    let q = match query(&raw, &[]) {
+        Ok(q) => q,
+        Err(r) => return r,
+    };
+    run(state, move |st| {
+        let s = st.scene(&q.words)?;
+        json(&describe(&s))
+    })
+    .await
+}
+
+fn describe(s: &Scene) -> serde_json::Value {
+    let r = &s.render;
+    serde_json::json!({
+        "file": s.path.display().to_string(),
+        "format": lower_debug(s.format),
+        "width": s.camera.width,
+        "height": s.camera.height,
+        "objects": s.objects.iter().map(|o| serde_json::json!({
+            "name": o.name,
+            "shape": lower_debug(&o.shape),
+            "material": s.materials.get(o.material).map(|m| m.name.clone()),
+        })).collect::<Vec<_>>(),
+        "lights": s.lights.iter().map(|l| serde_json::json!({
+            "name": l.name,
+            "kind": lower_debug(&l.kind),
+            "color": l.color,
+            "attenuation": l.attenuation,
+        })).collect::<Vec<_>>(),
+        "materials": s.materials.iter().map(|m| serde_json::json!({
+            "name": m.name,
+            "ambient": m.ambient,
+            "diffuse": m.diffuse,
+            "specular": m.specular,
+            "shininess": m.shininess,
+            "reflective": m.reflective,
+            "transparent": m.transparent,
+            "ior": m.ior,
+            "textured": m.texture.is_some(),
+        })).collect::<Vec<_>>(),
+        "ambient_light": s.ambient_light,
+        "render": {
+            "spp": r.spp,
+            "sampler": lower_debug(r.sampler),
+            "filter": lower_debug(r.filter),
+            "max_depth": r.max_depth,
+            "shadows": r.shadows,
+            "reflections": r.reflections,
+            "refractions": r.refractions,
+            "textures": r.textures,
+            "subsample": r.subsample,
+            "encoding": lower_debug(r.encoding),
+        },
+    })
+}
+
+/// `GET /api/options`: the render options the page offers as controls, and the AOV names.
+async fn options(axum::extract::State(state): St) -> Response {
+    run(state, |st| {
+        json(&serde_json::json!({"render": st.options, "aov": Aov::names()}))
+    })
+    .await
+}
+
+/// `GET /api/status`: the live scene's version and error.
+async fn status(axum::extract::State(state): St) -> Response {
+    run(state, |st| json(&st.status())).await
+}
+
+/// `GET /api/explain?x=X&y=Y&<render options>`: `rtlab explain --format json`.
+async fn explain(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Response {
+    let q = match query(&raw, &["x", "y"]) {
+        Ok(q) => q,
+        Err(r) => return r,
+    };
+    run(state, move |st| {
+        let s = st.scene(&q.words)?;
+        let (x, y) = q.pixel(s.camera.width, s.camera.height)?;
+        json(&crate::report::explain::explain(&s, x, y))
+    })
+    .await
+}
+
+/// `GET /api/diagram.png?x=X&y=Y[&plane=camera|bounce][&highlight=K]&<render options>`:
+/// the figure of `rtlab explain --diagram`, ray K (preorder, 0-based) in bold.
+async fn diagram(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Response {
+    let q = match query(&raw, &["x", "y", "plane", "highlight"]) {
+        Ok(q) => q,
+        Err(r) => return r,
+    };
+    run(state, move |st| {
+        let plane_name = q.own.get("plane").map_or("camera", String::as_str);
+        let plane = crate::viz::slice::SlicePlane::parse(plane_name).ok_or_else(|| {
+            Error::arg(
+                "--diagram-plane",
+                format!("unknown plane \"{plane_name}\" (expected camera or bounce)"),
+            )
+        })?;
+        let highlight = match q.own.contains_key("highlight") {
+            true => Some(q.number("highlight", "highlight=0")? as usize),
+            false => None,
+        };
+        let s = st.scene(&q.words)?;
+        let (x, y) = q.pixel(s.camera.width, s.camera.height)?;
+        let e = crate::report::explain::explain(&s, x, y);
+        let Some(sample) = e.samples.iter().find(|k| k.pixel == [x, y]) else {
+            return Err(Fail::Status(
+                StatusCode::NOT_FOUND,
+                format!("pixel ({x}, {y}) traces no samples of its own (it is filled in by --subsample)"),
+            ));
+        };
+        let opts = crate::viz::slice::SliceOptions {
+            plane,
+            caption: Some(format!("pixel ({x}, {y}), sample {}", sample.index)),
+            highlight,
+            ..Default::default()
+        };
+        let canvas = crate::viz::slice::draw(&s, &sample.ray, &opts)?;
+        Ok(("image/png", canvas.png_bytes()?))
+    })
+    .await
+}
+
+/// `GET /api/render.png?[aov=NAME][&stream=ID]&<render options>`: the bytes `rtlab render`
+/// (with `--aov NAME`) writes. A newer render on the same stream cancels this one (409).
+async fn render(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Response {
+    let q = match query(&raw, &["aov", "stream"]) {
+        Ok(q) => q,
+        Err(r) => return r,
+    };
+    let cancel = state.supersede(q.own.get("stream").map(String::as_str));
+    run(state, move |st| {
+        let aov = q.own.get("aov").map(|a| Aov::parse_arg(a)).transpose()?;
+        let s = st.scene(&q.words)?;
+        if let Some(aov) = aov {
+            return png(&render_aov(&s, &s.render, aov).image);
+        }
+        match crate::sampling::render_cancellable(&s, &s.render, &cancel) {
+            Some(out) => png(&out.image.to_rgb8(s.render.encoding)),
+            None => Err(Fail::Status(
+                StatusCode::CONFLICT,
+                "superseded by a newer render on the same stream".into(),
+            )),
+        }
+    })
+    .await
+}
+
+/// The steps frames of the scene with these options (rendered once, then kept).
+fn frames(st: &State, q: &Params) -> std::result::Result<Arc<Vec<(String, Vec<u8>)>>, Fail> {
+    let s = st.scene(&q.words)?;
+    if let Some((scene, f)) = super::state::lock(&st.steps).as_ref() {
+        if Arc::ptr_eq(scene, &s) {
+            return Ok(f.clone());
+        }
+    }
+    let (plan, mut skipped) = crate::viz::steps::plan(&s);
+    let frames = crate::viz::steps::render_frames(&s, &plan, &mut skipped);
+    let n = frames.len();
+    let mut out = Vec::with_capacity(n);
+    for (i, f) in frames.iter().enumerate() {
+        let img = crate::viz::steps::captioned(f, i + 1, n);
+        let bytes = crate::output::png_bytes(&img)
+            .map_err(|m| Fail::Status(StatusCode::INTERNAL_SERVER_ERROR, m))?;
+        out.push((f.caption.clone(), bytes));
+    }
+    let out = Arc::new(out);
+    *super::state::lock(&st.steps) = Some((s, out.clone()));
+    Ok(out)
+}
+
+/// `GET /api/steps?<render options>`: the captions of `rtlab steps`' frames, in order.
+async fn steps(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Response {
+    let q = match query(&raw, &[]) {
+        Ok(q) => q,
+        Err(r) => return r,
+    };
+    run(state, move |st| {
+        let f = frames(st, &q)?;
+        let list: Vec<_> = f
+            .iter()
+            .enumerate()
+            .map(|(i, (c, _))| serde_json::json!({"index": i, "caption": c}))
+            .collect();
+        json(&list)
+    })
+    .await
+}
+
+/// `GET /api/steps/frame.png?i=K&<render options>`: frame K of `rtlab steps`, captioned.
+async fn step_frame(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Response {
+    let q = match query(&raw, &["i"]) {
+        Ok(q) => q,
+        Err(r) => return r,
+    };
+    run(state, move |st| {
+        let i = q.number("i", "i=0")? as usize;
+        let f = frames(st, &q)?;
+        match f.get(i) {
+            Some((_, png)) => Ok(("image/png", png.clone())),
+            None => Err(Error::arg(
+                "i",
+                format!("frame {i} does not exist (there are {})", f.len()),
+            )
+            .into()),
+        }
+    })
+    .await
+}
+
+/// `GET /api/events`: server-sent events; `scene` with `{"version", "error"}` when the scene
+/// file changes (and once on connecting).
+async fn events(axum::extract::State(state): St) -> Response {
+    use tokio_stream::StreamExt;
+    let first = serde_json::to_string(&state.status()).unwrap_or_default();
+    let rx = tokio_stream::wrappers::BroadcastStream::new(state.events.subscribe());
+    let stream = tokio_stream::once(first)
+        .chain(rx.filter_map(|r| r.ok()))
+        .map(|s| Ok::<_, std::convert::Infallible>(Event::default().event("scene").data(s)));
+    Sse::new(stream)
+        .keep_alive(KeepAlive::default())
+        .into_response()
+}

@@ -1,0 +1,163 @@
+//! What the handlers share: the scene path, the loader, a small cache of loaded scenes, the
+//! render streams (a newer render on a stream cancels the one still running), the watcher's
+//! last word and the event channel the page listens to.
+
+use super::Options;
+use crate::error::{Error, Result};
+use crate::scene::Scene;
+use serde::Serialize;
+use std::collections::HashMap;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::SystemTime;
+
+/// Turns render-option words (`["--spp=4", "--no-shadows"]`) into the loaded scene with those
+/// options applied on top of the server's own (the CLI's parser and `RenderArgs::load`).
+pub type Loader = Arc<dyn Fn(&[String]) -> Result<Scene> + Send + Sync>;
+
+/// One render option as the page shows it: a switch (a flag) or a field with a value.
+#[derive(Debug, Clone, Serialize)]
+pub struct OptionInfo {
+    /// The option's long name without dashes (also its query key): `spp`, `no-shadows`.
+    pub name: String,
+    pub help: String,
+    /// A switch (`--no-shadows`) rather than an option with a value.
+    pub flag: bool,
+    /// The values the page offers (empty: free text).
+    pub choices: Vec<String>,
+}
+
+/// Scenes kept loaded, by option words and file stamp.
+const CACHE: usize = 6;
+
+/// The most samples one request may ask for (width × height × spp): a lab server answers in
+/// seconds, not hours.
+pub const MAX_SAMPLES: u64 = 1 << 26;
+
+type Stamp = Option<(SystemTime, u64)>;
+
+/// What the watcher last saw.
+#[derive(Debug, Clone, Serialize)]
+pub struct Status {
+    /// Counts the scene file's good versions since the server started.
+    pub version: u64,
+    /// The error of the newest version, when it does not load (the page keeps the last good
+    /// image).
+    pub error: Option<String>,
+}
+
+pub struct State {
+    pub scene_path: PathBuf,
+    pub loader: Loader,
+    pub options: Vec<OptionInfo>,
+    /// `Host` header values this server answers to.
+    pub allowed_hosts: Vec<String>,
+    cache: Mutex<Vec<(Vec<String>, Stamp, Arc<Scene>)>>,
+    streams: Mutex<HashMap<String, Arc<AtomicBool>>>,
+    pub status: Mutex<Status>,
+    pub events: tokio::sync::broadcast::Sender<String>,
+    /// Heavy work (renders, explanations) at most this many at a time; the rest wait.
+    pub jobs: tokio::sync::Semaphore,
+    /// The steps frames (caption, PNG) of the last scene asked for.
+    pub steps: Mutex<Option<(Arc<Scene>, Arc<Vec<(String, Vec<u8>)>>)>>,
+}
+
+impl State {
+    pub fn new(opts: &Options, host: &str, port: u16) -> Result<State> {
+        let scene = (opts.loader)(&[])?;
+        check_samples(&scene)?;
+        let mut allowed = vec![
+            format!("127.0.0.1:{port}"),
+            format!("localhost:{port}"),
+            format!("[::1]:{port}"),
+        ];
+        let h = if host.contains(':') && !host.starts_with('[') {
+            format!("[{host}]:{port}")
+        } else {
+            format!("{host}:{port}")
+        };
+        if !allowed.contains(&h) {
+            allowed.push(h);
+        }
+        let (events, _) = tokio::sync::broadcast::channel(16);
+        Ok(State {
+            scene_path: opts.scene.clone(),
+            loader: opts.loader.clone(),
+            options: opts.options.clone(),
+            allowed_hosts: allowed,
+            cache: Mutex::new(vec![(Vec::new(), stamp(&opts.scene), Arc::new(scene))]),
+            streams: Mutex::new(HashMap::new()),
+            status: Mutex::new(Status {
+                version: 1,
+                error: None,
+            }),
+            events,
+            jobs: tokio::sync::Semaphore::new(2),
+            steps: Mutex::new(None),
+        })
+    }
+
+    /// The scene with these option words, from the cache while the file is unchanged.
+    pub fn scene(&self, words: &[String]) -> Result<Arc<Scene>> {
+        let now = stamp(&self.scene_path);
+        {
+            let cache = lock(&self.cache);
+            if let Some((_, _, s)) = cache.iter().find(|(w, st, _)| w == words && *st == now) {
+                return Ok(s.clone());
+            }
+        }
+        let scene = Arc::new((self.loader)(words)?);
+        check_samples(&scene)?;
+        let mut cache = lock(&self.cache);
+        cache.retain(|(w, _, _)| w != words);
+        cache.insert(0, (words.to_vec(), now, scene.clone()));
+        cache.truncate(CACHE);
+        Ok(scene)
+    }
+
+    /// Starts a render on `stream`: cancels the one still running there and returns the new
+    /// one's flag. No stream: a render nobody supersedes.
+    pub fn supersede(&self, stream: Option<&str>) -> Arc<AtomicBool> {
+        let flag = Arc::new(AtomicBool::new(false));
+        if let Some(name) = stream {
+            let mut streams = lock(&self.streams);
+            if streams.len() > 64 {
+                streams.retain(|_, f| !f.load(Ordering::Relaxed));
+            }
+            if let Some(old) = streams.insert(name.to_string(), flag.clone()) {
+                old.store(true, Ordering::Relaxed);
+            }
+        }
+        flag
+    }
+
+    pub fn status(&self) -> Status {
+        lock(&self.status).clone()
+    }
+}
+
+/// A poisoned lock (a panic elsewhere) still holds usable data here.
+pub fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|p| p.into_inner())
+}
+
+/// The file's modification time and size (changes on every save).
+pub fn stamp(path: &std::path::Path) -> Stamp {
+    let m = std::fs::metadata(path).ok()?;
+    Some((m.modified().ok()?, m.len()))
+}
+
+fn check_samples(scene: &Scene) -> Result<()> {
+    let n = scene.camera.width as u64 * scene.camera.height as u64 * scene.render.spp as u64;
+    if n > MAX_SAMPLES {
+        return Err(Error::arg(
+            "--width/--height/--spp",
+            format!(
+                "{}×{} pixels × {} spp is {n} samples, more than the server traces for one request ({MAX_SAMPLES}); use rtlab render",
+                scene.camera.width, scene.camera.height, scene.render.spp
+            ),
+        ));
+    }
+    Ok(())
+}

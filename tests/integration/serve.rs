@@ -1,0 +1,577 @@
+//! `rtlab serve`'s API against the CLI, byte for byte, and the server against misuse: bad
+//! parameters, traversal paths, huge requests, foreign Host headers, concurrency, superseded
+//! renders, a scene file edited and broken while the server runs.
+
+use crate::common::{path, rtlab, stderr, tmp};
+use std::io::{BufRead, BufReader, Read, Write};
+use std::net::TcpStream;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// A `rtlab serve` process on a free port, stopped when dropped.
+pub struct Server {
+    child: Child,
+    pub addr: String,
+    pub url: String,
+}
+
+impl Server {
+    pub fn start(scene: &Path, args: &[&str]) -> Server {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_rtlab"))
+            .arg("serve")
+            .arg(scene)
+            .args(["--port", "0"])
+            .args(args)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("rtlab serve starts");
+        let mut line = String::new();
+        BufReader::new(child.stdout.take().unwrap())
+            .read_line(&mut line)
+            .unwrap();
+        let url = line
+            .split_whitespace()
+            .find(|w| w.starts_with("http://"))
+            .unwrap_or_else(|| panic!("no URL printed: {line:?}"))
+            .to_string();
+        let addr = url
+            .trim_start_matches("http://")
+            .trim_end_matches('/')
+            .to_string();
+        Server { child, addr, url }
+    }
+
+    /// GET `target` with this server's own Host.
+    pub fn get(&self, target: &str) -> Reply {
+        let host = self.addr.clone();
+        self.raw(&format!(
+            "GET {target} HTTP/1.1\r\nHost: {host}\r\nConnection: close\r\n\r\n"
+        ))
+    }
+
+    /// Sends `request` as it is and reads the whole answer.
+    pub fn raw(&self, request: &str) -> Reply {
+        let mut s = TcpStream::connect(&self.addr).unwrap();
+        s.set_read_timeout(Some(Duration::from_secs(300))).unwrap();
+        let _ = s.write_all(request.as_bytes());
+        let mut bytes = Vec::new();
+        let _ = s.read_to_end(&mut bytes);
+        Reply::parse(&bytes)
+    }
+}
+
+impl Drop for Server {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+#[derive(Debug)]
+pub struct Reply {
+    pub status: u16,
+    pub headers: String,
+    pub body: Vec<u8>,
+}
+
+impl Reply {
+    fn parse(bytes: &[u8]) -> Reply {
+        let split = bytes
+            .windows(4)
+            .position(|w| w == b"\r\n\r\n")
+            .unwrap_or_else(|| panic!("no HTTP answer: {:?}", String::from_utf8_lossy(bytes)));
+        let headers = String::from_utf8_lossy(&bytes[..split]).into_owned();
+        let status = headers
+            .split_whitespace()
+            .nth(1)
+            .and_then(|s| s.parse().ok())
+            .unwrap();
+        let mut body = bytes[split + 4..].to_vec();
+        if headers
+            .to_ascii_lowercase()
+            .contains("transfer-encoding: chunked")
+        {
+            body = dechunk(&body);
+        }
+        Reply {
+            status,
+            headers,
+            body,
+        }
+    }
+
+    pub fn text(&self) -> String {
+        String::from_utf8_lossy(&self.body).into_owned()
+    }
+}
+
+fn dechunk(mut b: &[u8]) -> Vec<u8> {
+    let mut out = Vec::new();
+    loop {
+        let Some(eol) = b.windows(2).position(|w| w == b"\r\n") else {
+            return out;
+        };
+        let n = usize::from_str_radix(String::from_utf8_lossy(&b[..eol]).trim(), 16).unwrap_or(0);
+        if n == 0 || b.len() < eol + 2 + n {
+            return out;
+        }
+        out.extend_from_slice(&b[eol + 2..eol + 2 + n]);
+        b = &b[eol + 4 + n..];
+    }
+}
+
+/// A copy of a repository scene in a fresh folder (the live-scene tests edit it).
+pub fn scene_copy(rel: &str, name: &str) -> PathBuf {
+    let p = tmp(name);
+    std::fs::copy(path(rel), &p).unwrap();
+    p
+}
+
+/// What the CLI prints on stderr for these arguments (its one line).
+fn cli_error(args: &[&str]) -> String {
+    let o = rtlab(args);
+    assert_eq!(o.status.code(), Some(2), "{args:?} should fail");
+    stderr(&o).lines().next().unwrap().to_string()
+}
+
+#[test]
+fn render_and_explain_are_the_clis_bytes() {
+    let s = Server::start(&path("scenes/spheres.json"), &["--max-depth", "2"]);
+    let out = tmp("serve-render.png");
+    let o = rtlab(&[
+        "render",
+        "scenes/spheres.json",
+        "--max-depth",
+        "2",
+        "--spp",
+        "2",
+        "--no-shadows",
+        "-q",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let r = s.get("/api/render.png?spp=2&no-shadows");
+    assert_eq!(r.status, 200, "{}", r.text());
+    assert!(r.headers.contains("image/png"));
+    assert_eq!(
+        r.body,
+        std::fs::read(&out).unwrap(),
+        "render.png differs from rtlab render"
+    );
+
+    // An AOV is `render --aov`.
+    let o = rtlab(&[
+        "render",
+        "scenes/spheres.json",
+        "--max-depth",
+        "2",
+        "--aov",
+        "normal",
+        "-q",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success());
+    let r = s.get("/api/render.png?aov=normal");
+    assert_eq!(r.body, std::fs::read(&out).unwrap());
+
+    for (q, flags) in [
+        ("x=160&y=120", vec![]),
+        (
+            "x=10&y=300&sampler=jittered&spp=4",
+            vec!["--sampler", "jittered", "--spp", "4"],
+        ),
+        ("x=200&y=150&no-reflections", vec!["--no-reflections"]),
+    ] {
+        let r = s.get(&format!("/api/explain?{q}"));
+        assert_eq!(r.status, 200, "{q}: {}", r.text());
+        let (x, y) = {
+            let v: Vec<&str> = q.split('&').take(2).map(|p| &p[2..]).collect();
+            (v[0].to_string(), v[1].to_string())
+        };
+        let pixel = format!("{x},{y}");
+        let mut args = vec![
+            "explain",
+            "scenes/spheres.json",
+            "--max-depth",
+            "2",
+            "--pixel",
+            &pixel,
+            "--format",
+            "json",
+        ];
+        args.extend(flags.iter().copied());
+        let o = rtlab(&args);
+        assert!(o.status.success());
+        assert_eq!(r.text(), String::from_utf8_lossy(&o.stdout), "explain {q}");
+    }
+
+    // The diagram is `explain --diagram`'s figure.
+    let fig = tmp("serve-diagram.png");
+    let o = rtlab(&[
+        "explain",
+        "scenes/spheres.json",
+        "--max-depth",
+        "2",
+        "--pixel",
+        "200,150",
+        "--diagram",
+        fig.to_str().unwrap(),
+    ]);
+    assert!(o.status.success());
+    let r = s.get("/api/diagram.png?x=200&y=150");
+    assert_eq!(r.status, 200);
+    assert_eq!(
+        r.body,
+        std::fs::read(&fig).unwrap(),
+        "diagram differs from explain --diagram"
+    );
+    // With a ray highlighted it is a different figure of the same size.
+    let h = s.get("/api/diagram.png?x=200&y=150&highlight=1");
+    assert_eq!(h.status, 200);
+    assert_ne!(h.body, r.body);
+}
+
+#[test]
+fn scene_steps_options_and_events() {
+    let s = Server::start(&path("scenes/spheres.json"), &[]);
+    let r = s.get("/api/scene");
+    assert_eq!(r.status, 200);
+    let v: serde_json::Value = serde_json::from_slice(&r.body).unwrap();
+    let scene = rtlab::scene::Scene::load(&path("scenes/spheres.json")).unwrap();
+    assert_eq!(v["width"], scene.camera.width);
+    assert_eq!(v["height"], scene.camera.height);
+    let names: Vec<&str> = v["objects"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|o| o["name"].as_str().unwrap())
+        .collect();
+    let expected: Vec<&str> = scene.objects.iter().map(|o| o.name.as_str()).collect();
+    assert_eq!(names, expected);
+    assert_eq!(v["lights"].as_array().unwrap().len(), scene.lights.len());
+    assert_eq!(
+        v["materials"].as_array().unwrap().len(),
+        scene.materials.len()
+    );
+    // Options apply here too.
+    let r = s.get("/api/scene?width=64&height=48");
+    let v: serde_json::Value = serde_json::from_slice(&r.body).unwrap();
+    assert_eq!(
+        (v["width"].as_u64(), v["height"].as_u64()),
+        (Some(64), Some(48))
+    );
+
+    // The controls come from the CLI's parser: every RenderArgs flag is there.
+    let r = s.get("/api/options");
+    let v: serde_json::Value = serde_json::from_slice(&r.body).unwrap();
+    let names: Vec<&str> = v["render"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|o| o["name"].as_str().unwrap())
+        .collect();
+    for n in [
+        "spp",
+        "sampler",
+        "filter",
+        "max-depth",
+        "no-shadows",
+        "no-textures",
+        "subsample",
+    ] {
+        assert!(names.contains(&n), "{n} missing from {names:?}");
+    }
+    assert!(v["aov"].as_array().unwrap().iter().any(|a| a == "depth"));
+
+    // Steps: the captions, and each frame a PNG; past the end is a 400.
+    let r = s.get("/api/steps?width=96&height=72");
+    assert_eq!(r.status, 200, "{}", r.text());
+    let list: serde_json::Value = serde_json::from_slice(&r.body).unwrap();
+    let n = list.as_array().unwrap().len();
+    assert!(n >= 3, "{list}");
+    let f = s.get("/api/steps/frame.png?i=0&width=96&height=72");
+    assert_eq!(f.status, 200);
+    assert_eq!(&f.body[1..4], b"PNG");
+    let f = s.get(&format!("/api/steps/frame.png?i={n}&width=96&height=72"));
+    assert_eq!(f.status, 400);
+    assert!(f.text().contains("does not exist"), "{}", f.text());
+
+    let r = s.get("/api/status");
+    assert!(r.text().contains("\"version\": 1"), "{}", r.text());
+
+    // The event stream opens with the current status.
+    let mut st = TcpStream::connect(&s.addr).unwrap();
+    write!(st, "GET /api/events HTTP/1.1\r\nHost: {}\r\n\r\n", s.addr).unwrap();
+    st.set_read_timeout(Some(Duration::from_secs(20))).unwrap();
+    let mut got = String::new();
+    let mut buf = [0u8; 1024];
+    while !got.contains("data:") {
+        let n = st.read(&mut buf).unwrap();
+        assert!(n > 0);
+        got += &String::from_utf8_lossy(&buf[..n]);
+    }
+    assert!(got.contains("text/event-stream"), "{got}");
+    assert!(got.contains("event: scene"), "{got}");
+}
+
+#[test]
+fn bad_parameters_get_the_clis_one_line_messages() {
+    let s = Server::start(&path("scenes/spheres.json"), &[]);
+    for (q, cli) in [
+        ("spp=banana", vec!["--spp", "banana"]),
+        ("sampler=nope", vec!["--sampler", "nope"]),
+        ("max-depth=999", vec!["--max-depth", "999"]),
+        ("bogus=1", vec!["--bogus", "1"]),
+        ("no-shadows=yes", vec!["--no-shadows=yes"]),
+        ("width=0&height=10", vec!["--width", "0", "--height", "10"]),
+    ] {
+        let r = s.get(&format!("/api/explain?x=1&y=1&{q}"));
+        assert_eq!(r.status, 400, "{q}: {}", r.text());
+        let mut args = vec!["explain", "scenes/spheres.json", "--pixel", "1,1"];
+        args.extend(cli.iter().copied());
+        assert_eq!(r.text().trim_end(), cli_error(&args), "{q}");
+        // The same parameters fail the same way on every endpoint.
+        let r2 = s.get(&format!("/api/render.png?{q}"));
+        assert_eq!((r2.status, r2.text()), (400, r.text()), "{q}");
+    }
+    let r = s.get("/api/explain?x=9999&y=1");
+    assert_eq!(r.status, 400);
+    assert_eq!(
+        r.text().trim_end(),
+        cli_error(&["explain", "scenes/spheres.json", "--pixel", "9999,1"])
+    );
+    let r = s.get("/api/render.png?aov=shiny");
+    assert_eq!(r.status, 400);
+    assert_eq!(
+        r.text().trim_end(),
+        cli_error(&["render", "scenes/spheres.json", "--aov", "shiny"])
+    );
+    for q in [
+        "/api/explain",
+        "/api/explain?x=1",
+        "/api/explain?x=-1&y=2",
+        "/api/explain?x=1&y=1&x=2",
+        "/api/explain?x=1&y=1&=3",
+        "/api/explain?x=1&y=1&--spp=3",
+        "/api/explain?x=1&y=1&sp%20p=3",
+        "/api/diagram.png?x=1&y=1&plane=sideways",
+        "/api/diagram.png?x=1&y=1&highlight=one",
+        "/api/render.png?spp=100000",
+    ] {
+        let r = s.get(q);
+        assert_eq!(r.status, 400, "{q}: {}", r.text());
+        let t = r.text();
+        assert!(
+            t.starts_with("error: ") && t.ends_with('\n') && t.lines().count() == 1,
+            "{q}: {t:?}"
+        );
+    }
+}
+
+#[test]
+fn hostile_requests_are_refused() {
+    let s = Server::start(&path("scenes/spheres.json"), &[]);
+    // Only the embedded page and the API: no path reaches the file system.
+    for target in [
+        "/../../../../etc/passwd",
+        "/%2e%2e/%2e%2e/etc/passwd",
+        "/..%2f..%2fetc%2fpasswd",
+        "/scenes/spheres.json",
+        "/Cargo.toml",
+        "/api/../Cargo.toml",
+        "/api/render.png/../../Cargo.toml",
+        "//etc/passwd",
+        "/page.js/..",
+    ] {
+        let r = s.get(target);
+        assert!(r.status == 404 || r.status == 400, "{target}: {}", r.status);
+        let t = r.text();
+        assert!(
+            !t.contains("root:") && !t.contains("[package]"),
+            "{target}: {t}"
+        );
+    }
+    let page = s.get("/");
+    assert_eq!(page.status, 200);
+    assert!(page.text().contains("<canvas id=\"view\""));
+    assert!(
+        !page.text().contains("http://") && !page.text().contains("https://"),
+        "the page fetches nothing from elsewhere"
+    );
+    assert!(s.get("/page.js").text().contains("/api/explain"));
+
+    // DNS rebinding: a page of another site reaching 127.0.0.1 sends its own Host.
+    let port = s.addr.rsplit(':').next().unwrap();
+    for host in [
+        "evil.example",
+        "evil.example:80",
+        &format!("attacker.test:{port}"),
+        "127.0.0.1:1",
+    ] {
+        let r = s.raw(&format!(
+            "GET /api/scene HTTP/1.1\r\nHost: {host}\r\nConnection: close\r\n\r\n"
+        ));
+        assert_eq!(r.status, 403, "Host {host}");
+        assert!(!r.text().contains("objects"));
+    }
+    for ok in [format!("localhost:{port}"), format!("127.0.0.1:{port}")] {
+        let r = s.raw(&format!(
+            "GET /api/status HTTP/1.1\r\nHost: {ok}\r\nConnection: close\r\n\r\n"
+        ));
+        assert_eq!(r.status, 200, "Host {ok}");
+    }
+    let r = s.raw("GET /api/scene HTTP/1.0\r\n\r\n");
+    assert_eq!(r.status, 400, "no Host header");
+
+    // Only GET.
+    let r = s.raw(&format!(
+        "POST /api/render.png HTTP/1.1\r\nHost: {}\r\nContent-Length: 5\r\nConnection: close\r\n\r\nhello",
+        s.addr
+    ));
+    assert_eq!(r.status, 405);
+
+    // Huge requests: a long query, a long target, a huge header, a body announced as huge.
+    let q = "spp=1&".repeat(2000);
+    let r = s.get(&format!("/api/render.png?{q}"));
+    assert!(r.status == 400 || r.status == 414, "{}", r.status);
+    let r = s.get(&format!("/{}", "a".repeat(20_000)));
+    assert_eq!(r.status, 414);
+    let r = s.raw(&format!(
+        "GET /api/status HTTP/1.1\r\nHost: {}\r\nX-Big: {}\r\nConnection: close\r\n\r\n",
+        s.addr,
+        "b".repeat(1_000_000)
+    ));
+    assert!(
+        r.status == 431 || r.status == 400 || r.status == 413,
+        "{}",
+        r.status
+    );
+    let r = s.raw(&format!(
+        "GET /api/status HTTP/1.1\r\nHost: {}\r\nContent-Length: 100000000000\r\nConnection: close\r\n\r\n",
+        s.addr
+    ));
+    assert!(r.status < 500, "{}", r.status);
+    let r = s.raw("NONSENSE\r\n\r\n");
+    assert!(r.status == 400 || r.status == 0, "{}", r.status);
+
+    // Still serving after all that.
+    assert_eq!(s.get("/api/status").status, 200);
+}
+
+#[test]
+fn concurrent_requests_and_superseded_renders() {
+    let s = Server::start(&path("scenes/spheres.json"), &[]);
+    let expected = {
+        let o = rtlab(&[
+            "explain",
+            "scenes/spheres.json",
+            "--pixel",
+            "100,100",
+            "--format",
+            "json",
+        ]);
+        String::from_utf8_lossy(&o.stdout).into_owned()
+    };
+    std::thread::scope(|sc| {
+        let hs: Vec<_> = (0..6)
+            .map(|_| sc.spawn(|| s.get("/api/explain?x=100&y=100")))
+            .collect();
+        for h in hs {
+            let r = h.join().unwrap();
+            assert_eq!(r.status, 200);
+            assert_eq!(r.text(), expected);
+        }
+    });
+    // A long render on a stream, then a newer one on the same stream: the first is cancelled.
+    std::thread::scope(|sc| {
+        let slow = sc.spawn(|| s.get("/api/render.png?spp=256&sampler=random&stream=t"));
+        let t0 = Instant::now();
+        std::thread::sleep(Duration::from_millis(500));
+        let fast = s.get("/api/render.png?subsample=8&stream=t");
+        assert_eq!(fast.status, 200);
+        let slow = slow.join().unwrap();
+        assert_eq!(slow.status, 409, "{}", slow.text());
+        assert!(slow.text().contains("superseded"));
+        // Cancelled, not finished: a full 256-spp render takes far longer than this.
+        assert!(t0.elapsed() < Duration::from_secs(120));
+    });
+    // Another stream's render is not affected.
+    let r = s.get("/api/render.png?subsample=4&stream=other");
+    assert_eq!(r.status, 200);
+}
+
+#[test]
+fn edited_and_broken_scenes_while_serving() {
+    let scene = scene_copy("scenes/spheres.json", "serve-live.json");
+    let s = Server::start(&scene, &[]);
+    let before = s.get("/api/render.png?subsample=4").body;
+    let text = std::fs::read_to_string(&scene).unwrap();
+    let wait_for = |want: &dyn Fn(&serde_json::Value) -> bool| {
+        let t0 = Instant::now();
+        loop {
+            let v: serde_json::Value = serde_json::from_slice(&s.get("/api/status").body).unwrap();
+            if want(&v) {
+                return v;
+            }
+            assert!(t0.elapsed() < Duration::from_secs(30), "status stayed {v}");
+            std::thread::sleep(Duration::from_millis(100));
+        }
+    };
+    // A valid edit: a new version, a new image.
+    let edited = text.replacen("\"width\": 480", "\"width\": 240", 1);
+    assert_ne!(edited, text, "the scene's width is written as expected");
+    rtlab::output::write_atomic(&scene, edited.as_bytes()).unwrap();
+    wait_for(&|v| v["version"] == 2 && v["error"].is_null());
+    let after = s.get("/api/render.png?subsample=4");
+    assert_eq!(after.status, 200);
+    assert_ne!(after.body, before);
+    // A broken edit: the error names the file and the JSON path; requests say so too.
+    let broken = edited.replacen("\"width\": 240", "\"width\": -3", 1);
+    rtlab::output::write_atomic(&scene, broken.as_bytes()).unwrap();
+    let v = wait_for(&|v| !v["error"].is_null());
+    let err = v["error"].as_str().unwrap();
+    let cli = cli_error(&["validate", scene.to_str().unwrap()]);
+    assert_eq!(err, cli, "the page shows what the CLI says");
+    assert!(
+        err.contains("serve-live.json") && err.contains("width"),
+        "{err}"
+    );
+    assert_eq!(v["version"], 2);
+    let r = s.get("/api/render.png");
+    assert_eq!(r.status, 422);
+    assert_eq!(r.text().trim_end(), cli);
+    // Fixed again.
+    rtlab::output::write_atomic(&scene, text.as_bytes()).unwrap();
+    wait_for(&|v| v["version"] == 3 && v["error"].is_null());
+}
+
+#[test]
+fn serve_refuses_what_cannot_be_served() {
+    let o = rtlab(&["serve", "scenes/nope.json", "--port", "0"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("nope.json"), "{}", stderr(&o));
+    let o = rtlab(&["serve", "scenes/spheres.json", "--port", "0", "--spp", "0"]);
+    assert_eq!(o.status.code(), Some(2));
+    // A port already taken (no name lookup: nothing leaves this machine).
+    let taken = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    let port = taken.local_addr().unwrap().port().to_string();
+    let o = rtlab(&[
+        "serve",
+        "scenes/spheres.json",
+        "--host",
+        "127.0.0.1",
+        "--port",
+        &port,
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("cannot listen"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("warning"),
+        "an explicit --host warns: {}",
+        stderr(&o)
+    );
+}
