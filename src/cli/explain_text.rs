@@ -299,7 +299,9 @@ fn ray(o: &mut String, scene: &Scene, n: &RayNode, depth: usize) {
         End::TotalInternalReflection => {
             ", total internal reflection: the transmitted ray was reflected"
         }
-        End::RayBudget => ", cut: ray budget reached (max_rays; the rest of this sample's tree was not traced)",
+        End::RayBudget => {
+            ", cut: ray budget reached (max_rays; the rest of this sample's tree was not traced)"
+        }
         End::Miss | End::Blocked => "",
     };
     let _ = writeln!(

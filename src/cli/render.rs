@@ -216,7 +216,10 @@ fn explain_command(args: &Args, x: u32, y: u32, k: u32) -> String {
     opt("spp", r.spp.map(|v| v.to_string()));
     opt("sampler", r.sampler.clone());
     opt("subsample", r.subsample.map(|v| v.to_string()));
-    opt("adaptive-threshold", r.adaptive_threshold.map(|v| v.to_string()));
+    opt(
+        "adaptive-threshold",
+        r.adaptive_threshold.map(|v| v.to_string()),
+    );
     opt("max-depth", r.max_depth.map(|v| v.to_string()));
     opt("seed", r.seed.map(|v| v.to_string()));
     opt("max-rays", r.max_rays.map(|v| v.to_string()));

@@ -8,6 +8,7 @@ mod csg;
 mod errors;
 mod explain;
 mod intersect;
+mod limits;
 mod props;
 mod render;
 mod robust;
