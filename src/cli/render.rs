@@ -109,7 +109,14 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
     // Said before it happens: on a terminal, the first line warns of trees the budget will cut.
     if !args.quiet && std::io::stderr().is_terminal() {
         if let Some(w) = crate::trace::branching_warning(&scene, &scene.render) {
-            eprintln!("warning: {w}");
+            let r = &scene.render;
+            let worst = crate::trace::worst_case(&scene, r).rays_per_sample;
+            let samples = scene.camera.width as f64 * scene.camera.height as f64 * r.spp as f64;
+            eprintln!(
+                "warning: {w} This render of {} samples can trace up to {:.1e} rays under the budget.",
+                samples,
+                samples * worst.min(r.max_rays as f64)
+            );
         }
     }
     let bar = (!args.quiet && std::io::stderr().is_terminal()).then(|| {

@@ -145,6 +145,13 @@ fn explain_of_a_cut_pixel_shows_where_the_budget_cut_it() {
     assert!(t.status.success(), "{}", stderr(&t));
     let text = String::from_utf8_lossy(&t.stdout);
     assert!(text.contains("cut: ray budget reached"), "{text}");
+    // The sample's header says so too, with the same count as the JSON tree.
+    assert!(
+        text.contains(&format!(
+            "cut: ray budget reached: this sample traced {rays} rays, the budget is 40"
+        )),
+        "{text}"
+    );
 }
 
 #[test]
