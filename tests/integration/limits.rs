@@ -372,3 +372,39 @@ fn a_budget_of_zero_rays_is_refused() {
         stderr(&o)
     );
 }
+
+#[test]
+fn a_storyboard_of_a_huge_tree_is_refused_with_the_limit_and_the_way_out() {
+    let scene = nested_glass("nested-steps.json");
+    let dir = tmp("nested-steps");
+    let t0 = Instant::now();
+    let o = rtlab(&[
+        "steps",
+        &scene,
+        "-o",
+        dir.to_str().unwrap(),
+        "--pixel",
+        "29,3",
+    ]);
+    assert!(t0.elapsed() < Duration::from_secs(60));
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(
+        err.contains("ray tree has 10000 rays, more than the 500 a storyboard draws"),
+        "{err}"
+    );
+    // Cut short by the budget, the same pixel makes a storyboard that ends at the cut.
+    let o = rtlab(&[
+        "steps",
+        &scene,
+        "-o",
+        dir.to_str().unwrap(),
+        "--pixel",
+        "29,3",
+        "--max-rays",
+        "12",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.contains("cut: ray budget reached"), "{out}");
+}
