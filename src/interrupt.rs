@@ -70,6 +70,14 @@ impl PartialEq for Cancel {
 
 impl std::fmt::Debug for Cancel {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "Cancel({})", if self.is_cancelled() { "cancelled" } else { "running" })
+        write!(
+            f,
+            "Cancel({})",
+            if self.is_cancelled() {
+                "cancelled"
+            } else {
+                "running"
+            }
+        )
     }
 }

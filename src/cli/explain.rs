@@ -63,6 +63,8 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
     let scene = args.render.load(&args.scene)?;
     let (x, y) = parse_pixel(&args.pixel, scene.camera.width, scene.camera.height)?;
     let mut e = explain(&scene, x, y);
+    // Ctrl-C inside a huge tree cuts it short: print nothing rather than a partial tree.
+    crate::interrupt::check()?;
     if let Some(k) = args.sample {
         // The pixel's own samples (the adaptive sampler decides how many while tracing).
         let own = e.samples.iter().filter(|s| s.pixel == [x, y]).count() as u32;

@@ -19,6 +19,16 @@ fn color(v: DVec3) -> String {
     format!("({:.3}, {:.3}, {:.3})", v.x, v.y, v.z).replace("-0.000", "0.000")
 }
 
+/// Rays in a tree, and the nodes the ray budget cut.
+fn budget_of(n: &RayNode) -> (usize, usize) {
+    n.children
+        .iter()
+        .map(budget_of)
+        .fold((1, (n.end == End::RayBudget) as usize), |(a, b), (c, d)| {
+            (a + c, b + d)
+        })
+}
+
 pub fn text(scene: &Scene, e: &Explanation) -> String {
     let mut o = String::new();
     let r = &scene.render;
@@ -73,6 +83,15 @@ pub fn text(scene: &Scene, e: &Explanation) -> String {
             v2(s.film),
             short(s.weight)
         );
+        let (rays, cut) = budget_of(&s.ray);
+        if cut > 0 {
+            let _ = writeln!(
+                o,
+                "  cut: ray budget reached: this sample traced {rays} rays, the budget is {} (max_rays, --max-rays); \
+                 {cut} ray(s) below marked \"cut: ray budget reached\" wanted more",
+                r.max_rays
+            );
+        }
         let _ = writeln!(
             o,
             "  ray generation: ndc {} -> film point {} on the canonical far plane -> world {} -> direction = world - eye",
@@ -314,7 +333,9 @@ fn ray(o: &mut String, scene: &Scene, n: &RayNode, depth: usize) {
         End::TotalInternalReflection => {
             ", total internal reflection: the transmitted ray was reflected"
         }
-        End::RayBudget => ", cut: ray budget reached (max_rays; the rest of this sample's tree was not traced)",
+        End::RayBudget => {
+            ", cut: ray budget reached (max_rays; the rest of this sample's tree was not traced)"
+        }
         End::Miss | End::Blocked => "",
     };
     let _ = writeln!(

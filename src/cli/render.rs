@@ -197,7 +197,14 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
     // Said before it happens: on a terminal, the first line warns of trees the budget will cut.
     if !args.quiet && std::io::stderr().is_terminal() {
         if let Some(w) = crate::trace::branching_warning(&scene, &scene.render) {
-            eprintln!("warning: {w}");
+            let r = &scene.render;
+            let worst = crate::trace::worst_case(&scene, r).rays_per_sample;
+            let samples = scene.camera.width as f64 * scene.camera.height as f64 * r.spp as f64;
+            eprintln!(
+                "warning: {w} This render of {} samples can trace up to {:.1e} rays under the budget.",
+                samples,
+                samples * worst.min(r.max_rays as f64)
+            );
         }
     }
     let bar = (!args.quiet && std::io::stderr().is_terminal()).then(|| {
@@ -351,7 +358,10 @@ fn explain_command(args: &Args, x: u32, y: u32, k: u32) -> String {
     opt("spp", r.spp.map(|v| v.to_string()));
     opt("sampler", r.sampler.clone());
     opt("subsample", r.subsample.map(|v| v.to_string()));
-    opt("adaptive-threshold", r.adaptive_threshold.map(|v| v.to_string()));
+    opt(
+        "adaptive-threshold",
+        r.adaptive_threshold.map(|v| v.to_string()),
+    );
     opt("max-depth", r.max_depth.map(|v| v.to_string()));
     opt("seed", r.seed.map(|v| v.to_string()));
     opt("max-rays", r.max_rays.map(|v| v.to_string()));

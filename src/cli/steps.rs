@@ -83,6 +83,9 @@ fn is_png(p: &Path) -> bool {
         .is_some_and(|e| e.eq_ignore_ascii_case("png"))
 }
 
+/// The most rays a `--pixel` storyboard draws (one frame each).
+pub const MAX_STORYBOARD_RAYS: usize = 500;
+
 pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
     let sheet = is_png(&args.output);
     if sheet {
@@ -142,6 +145,17 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
                 .iter()
                 .find(|s| s.pixel == [x, y])
                 .ok_or_else(|| Error::Other(format!("pixel ({x}, {y}) has no sample")))?;
+            // Frame k redraws the first k rays: a long tree costs its square in drawing.
+            let rays = crate::viz::steps::events(&sample.ray).len();
+            if rays > MAX_STORYBOARD_RAYS {
+                return Err(Error::arg(
+                    "--pixel",
+                    format!(
+                        "pixel ({x}, {y})'s ray tree has {rays} rays, more than the {MAX_STORYBOARD_RAYS} a storyboard draws \
+                         (one frame per ray): lower --max-depth, or cut the tree with --max-rays, or read it with rtlab explain"
+                    ),
+                ));
+            }
             let frames = storyboard(&scene, &sample.ray, (x, y), plane, e.color)?;
             (frames, Vec::new())
         }

@@ -14,6 +14,10 @@ pub const MAX_MAGNITUDE: f64 = 1e12;
 /// subnormal range and the surface is lost in rounding.
 pub const MIN_SIZE: f64 = 1e-12;
 
+/// The deepest nesting of JSON objects and arrays a scene may have: serde_json's recursion
+/// limit, which keeps parsing from overflowing the stack.
+pub const MAX_NESTING: usize = 128;
+
 /// A value in the document and where it sits.
 #[derive(Clone, Copy)]
 pub struct Node<'a> {
@@ -35,6 +39,21 @@ pub fn parse(file: &Path, text: &str) -> Result<Value> {
     serde_json::from_str(text).map_err(|e| {
         let what = e.to_string();
         let what = what.split(" at line").next().unwrap_or(&what).to_string();
+        if what == "recursion limit exceeded" {
+            return Error::input(
+                file,
+                format!("line {}:{}", e.line(), e.column().max(1)),
+                format!(
+                    "the JSON is nested more than {MAX_NESTING} levels deep (objects and arrays \
+                     inside one another), the most the scene reader allows (it keeps the reader's \
+                     stack bounded). Each CSG level takes two (the node and its \"children\" list), so a \
+                     CSG tree can be about {} levels deep, and CS1230 groups the same. A csg node \
+                     takes any number of children, folded left to right: write one union of many \
+                     children (or one difference A − B − C − ...) instead of nesting pairs (in a CS1230 scenefile: many primitives in one group)",
+                    MAX_NESTING / 2 - 2
+                ),
+            );
+        }
         Error::input(
             file,
             format!("line {}:{}", e.line(), e.column().max(1)),

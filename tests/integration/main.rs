@@ -12,6 +12,7 @@ mod errors;
 mod explain;
 mod intersect;
 mod progressive;
+mod limits;
 mod props;
 mod render;
 mod robust;
