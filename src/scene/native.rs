@@ -62,6 +62,7 @@ const RENDER: &[&str] = &[
     "encoding",
     "clamp_each_ray",
     "texture_filter",
+    "course_refraction",
 ];
 const GLOBAL: &[&str] = &["ka", "kd", "ks", "kt"];
 const LIGHT: &[&str] = &[
@@ -288,6 +289,7 @@ fn render_settings(n: &Node) -> Result<RenderSettings> {
                 ))
             })
         })?,
+        course_refraction: o.or("course_refraction", d.course_refraction, |n| n.bool())?,
         ..d
     })
 }

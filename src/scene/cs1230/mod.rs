@@ -162,6 +162,8 @@ pub fn course_settings() -> RenderSettings {
         min_contribution: 0.0,
         background: DVec3::ZERO,
         clamp_each_ray: true,
+        // Refraction the course's way (FORMAT §8): two bends, no inner shading, no TIR.
+        course_refraction: true,
         ..RenderSettings::default()
     }
 }
