@@ -185,6 +185,8 @@ pub fn to_native(flat: &Flat, source: &Path, out_dir: &Path) -> Value {
             "seed": r.seed,
             "encoding": if r.encoding == Encoding::Srgb { "srgb" } else { "clamp" },
             "clamp_each_ray": r.clamp_each_ray,
+            "course_refraction": r.course_refraction,
+            "texture_filter": r.texture_filter.name(),
         },
         "global": {"ka": flat.global.ka, "kd": flat.global.kd, "ks": flat.global.ks, "kt": flat.global.kt},
         "ambient_light": [1.0, 1.0, 1.0],

@@ -321,6 +321,22 @@ fn ray(o: &mut String, scene: &Scene, n: &RayNode, depth: usize) {
             );
         }
     }
+    if n.shading.is_none() && n.kind == RayKind::Refraction && scene.render.course_refraction {
+        let why = if n.end == End::TotalInternalReflection {
+            ": total internal reflection, nothing leaves (the course's refraction)"
+        } else {
+            ""
+        };
+        let _ = writeln!(
+            o,
+            "{pad}  the exit point, not shaded: the ray bends out here (the course's refraction); colour = what leaves = {}{why}",
+            color(n.color)
+        );
+        for c in others.by_ref() {
+            ray(o, scene, c, depth + 1);
+        }
+        return;
+    }
     let clamped = if n.clamped {
         " (clamped to [0, 1])"
     } else {
@@ -330,6 +346,9 @@ fn ray(o: &mut String, scene: &Scene, n: &RayNode, depth: usize) {
         End::Shaded => "",
         End::MaxDepth => ", stopped: maximum depth reached",
         End::Cutoff => ", stopped: the next ray would contribute less than min_contribution",
+        End::TotalInternalReflection if scene.render.course_refraction => {
+            ", total internal reflection: nothing is transmitted (the course's refraction)"
+        }
         End::TotalInternalReflection => {
             ", total internal reflection: the transmitted ray was reflected"
         }

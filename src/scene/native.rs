@@ -63,6 +63,7 @@ const RENDER: &[&str] = &[
     "clamp_each_ray",
     "max_rays",
     "texture_filter",
+    "course_refraction",
 ];
 const GLOBAL: &[&str] = &["ka", "kd", "ks", "kt"];
 const LIGHT: &[&str] = &[
@@ -295,6 +296,7 @@ fn render_settings(n: &Node) -> Result<RenderSettings> {
                 ))
             })
         })?,
+        course_refraction: o.or("course_refraction", d.course_refraction, |n| n.bool())?,
         ..d
     })
 }

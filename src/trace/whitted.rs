@@ -428,7 +428,10 @@ impl<'a> Tracer<'a> {
         // Transmission: kt·Ot·I_t, straight through or bent by Snell's law.
         if spawn(transmit, &mut end) {
             let mut c = DVec3::ZERO;
-            if !m.refract {
+            if self.settings.course_refraction && m.refract {
+                let mut st = CourseStep { depth, weight, end: &mut end };
+                c = self.course_refraction(d, n, entering, hit, transmit, &mut st, rng, rec);
+            } else if !m.refract {
                 let t = Ray::new(below, d);
                 rec.weight(transmit);
                 c = transmit
@@ -483,6 +486,65 @@ impl<'a> Tracer<'a> {
     }
     // ANCHOR_END: shade
 
+    // ANCHOR: course_refraction
+    /// The course's refraction (FORMAT §8, `render.course_refraction`): bend in with
+    /// η = 1/ior, follow the ray inside to where it leaves the same object (that surface is
+    /// not shaded), bend out with η = ior and trace on; total internal reflection at either
+    /// surface adds nothing. Weighted kt·Ot by the caller's `w`.
+    #[allow(clippy::too_many_arguments)]
+    fn course_refraction<R: Recorder>(
+        &self,
+        d: DVec3,
+        n: DVec3,
+        entering: bool,
+        hit: &HitInfo,
+        w: DVec3,
+        st: &mut CourseStep,
+        rng: &mut Rng,
+        rec: &mut R,
+    ) -> DVec3 {
+        let ior = self.scene.material_of(hit.object).ior[0];
+        let eps = |p: DVec3| self.settings.epsilon * (1.0 + p.abs().max_element());
+        let (depth, weight) = (st.depth, st.weight);
+        // Met from inside (a camera inside the object): one bend, out.
+        let eta = if entering { 1.0 / ior } else { ior };
+        let Some(d_in) = refract(d, n, eta) else {
+            *st.end = End::TotalInternalReflection;
+            return DVec3::ZERO;
+        };
+        let inner = Ray::new(hit.point - n * eps(hit.point), d_in);
+        rec.weight(w);
+        if !entering {
+            return w * self.trace(&inner, RayKind::Refraction, depth + 1, weight * w, rng, rec);
+        }
+        // The inner segment: tested against this object only, recorded without shading.
+        rec.begin_ray(RayKind::Refraction, depth + 1, &inner);
+        let objects = &self.scene.objects;
+        let Some(local) =
+            crate::accel::test_object(objects, hit.object, &inner, 0.0, f64::INFINITY, rec)
+        else {
+            rec.end_ray(DVec3::ZERO, End::Miss, false);
+            return DVec3::ZERO;
+        };
+        let exit = self.hit_info(&inner, hit.object, local);
+        rec.hit(&exit);
+        let n_exit = if exit.normal.dot(d_in) < 0.0 {
+            exit.normal
+        } else {
+            -exit.normal
+        };
+        let Some(d_out) = refract(d_in, n_exit, ior) else {
+            rec.end_ray(DVec3::ZERO, End::TotalInternalReflection, false);
+            return DVec3::ZERO;
+        };
+        let out = Ray::new(exit.point - n_exit * eps(exit.point), d_out);
+        rec.weight(DVec3::ONE);
+        let i = self.trace(&out, RayKind::Refraction, depth + 1, weight * w, rng, rec);
+        rec.end_ray(i, End::Shaded, false);
+        w * i
+    }
+    // ANCHOR_END: course_refraction
+
     // ANCHOR: shadow
     /// Casts a shadow ray from `origin` towards a light `distance` away along `l`: the light
     /// is visible unless some object is hit first (any hit will do, not the closest).
@@ -523,4 +585,11 @@ impl<'a> Tracer<'a> {
         }
     }
     // ANCHOR_END: shadow
+}
+
+/// Where a course refraction starts in the ray tree (for [`Tracer::course_refraction`]).
+struct CourseStep<'e> {
+    depth: u32,
+    weight: DVec3,
+    end: &'e mut End,
 }

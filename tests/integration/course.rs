@@ -445,3 +445,134 @@ fn texture_filter_flag_changes_the_lookup() {
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("unknown texture filter \"trilinear\""));
 }
+
+/// Traces one ray through a scene with the tree recorder.
+fn trace_tree(scene: &Scene, origin: glam::DVec3, dir: glam::DVec3) -> rtlab::trace::RayNode {
+    use rtlab::trace::{RayKind, Tracer, TreeRecorder};
+    let mut rec = TreeRecorder::new(scene);
+    let tracer = Tracer {
+        scene,
+        settings: &scene.render,
+    };
+    let mut rng = rtlab::math::Rng::new(&[0]);
+    let ray = rtlab::math::Ray::new(origin, dir.normalize());
+    tracer.trace(
+        &ray,
+        RayKind::Camera,
+        0,
+        glam::DVec3::ONE,
+        &mut rng,
+        &mut rec,
+    );
+    rec.root.unwrap()
+}
+
+fn not_shadow(n: &rtlab::trace::RayNode) -> Vec<&rtlab::trace::RayNode> {
+    n.children
+        .iter()
+        .filter(|c| c.kind != rtlab::trace::RayKind::Shadow)
+        .collect()
+}
+
+/// A course scenefile: a clear glass object (no local shading: ka = kd = ks = 0 on it) in
+/// front of a lit white wall.
+fn glass_scene(name: &str, shape: &str, scale: [f64; 3], ior: f64) -> PathBuf {
+    let text = format!(
+        r#"{{"globalData": {{"ambientCoeff": 1, "diffuseCoeff": 1, "specularCoeff": 0, "transparentCoeff": 1}},
+  "cameraData": {{"position": [0, 0, 5], "look": [0, 0, -1], "up": [0, 1, 0], "heightAngle": 45}},
+  "groups": [
+    {{"lights": [{{"type": "directional", "color": [1, 1, 1], "direction": [0, 0, -1]}}]}},
+    {{"scale": {scale:?}, "primitives": [{{"type": "{shape}", "diffuse": [0, 0, 0], "transparent": [1, 1, 1], "ior": {ior}}}]}},
+    {{"translate": [0, 0, -3], "scale": [40, 40, 0.1], "primitives": [{{"type": "cube", "diffuse": [0.5, 0.5, 0.5], "ambient": [0.1, 0.1, 0.1]}}]}}
+  ]}}"#
+    );
+    write_tmp(&format!("course-refract/{name}.json"), &text)
+}
+
+#[test]
+fn course_refraction_bends_twice_on_the_same_object_without_shading_inside() {
+    use glam::DVec3;
+    use rtlab::trace::{End, RayKind};
+    let scene = Scene::load(&glass_scene("sphere", "sphere", [2.0, 2.0, 2.0], 1.5)).unwrap();
+    assert!(
+        scene.render.course_refraction,
+        "the course loader turns it on"
+    );
+    // A ray parallel to the axis at height h hits the sphere (radius 1) at angle θi with
+    // sin θi = h; inside it bends to θt = asin(h / 1.5); by symmetry it leaves deviated by
+    // 2(θi − θt) towards the axis.
+    let h = 0.5f64;
+    let root = trace_tree(&scene, DVec3::new(0.0, h, 5.0), DVec3::NEG_Z);
+    let rays = not_shadow(&root);
+    assert_eq!(rays.len(), 1, "one transmitted ray, no reflection");
+    let inner = rays[0];
+    assert_eq!(inner.kind, RayKind::Refraction);
+    assert!(inner.shading.is_none(), "the inner surface is not shaded");
+    let exit = inner.hit.as_ref().unwrap();
+    assert_eq!(
+        exit.object,
+        root.hit.as_ref().unwrap().object,
+        "exit on the same object"
+    );
+    let (ti, tt) = (h.asin(), (h / 1.5).asin());
+    let dev = 2.0 * (ti - tt);
+    let out = not_shadow(inner)[0];
+    assert_eq!(out.kind, RayKind::Refraction);
+    let want = DVec3::new(0.0, -dev.sin(), -dev.cos());
+    // (Up to the spawn offsets, a few 1e-6 in this 40-unit scene.)
+    assert!(
+        (out.direction.normalize() - want).length() < 1e-5,
+        "{} vs {want}",
+        out.direction
+    );
+    // The pixel is kt·Ot times what leaves: the wall at y ≈ −0.4, in the glass's shadow
+    // (objects block whatever their transparency), so its ambient ka·Oa = 0.1 alone.
+    assert!(
+        (out.color - DVec3::splat(0.1)).length() < 1e-9,
+        "{}",
+        out.color
+    );
+    assert!((root.color - out.color).length() < 1e-12);
+    assert_eq!(inner.end, End::Shaded);
+
+    // Native scenes keep the general Whitted refraction: the inner surface is shaded (a
+    // refraction ray hits it, with shading) and no exit search happens.
+    let mut general = scene.clone();
+    general.render.course_refraction = false;
+    let root = trace_tree(&general, DVec3::new(0.0, h, 5.0), DVec3::NEG_Z);
+    let inner = not_shadow(&root)[0];
+    assert!(inner.shading.is_some());
+}
+
+#[test]
+fn course_refraction_adds_nothing_on_total_internal_reflection() {
+    use glam::DVec3;
+    use rtlab::trace::End;
+    // A tall block (x, z in [−0.5, 0.5], y in [−2, 2]) with ior 2: a ray entering its top at
+    // 48.6° from the vertical bends to 22° and meets the side x = 0.5 at 68° from its
+    // normal, past the critical angle asin(1/2) = 30°.
+    let scene = Scene::load(&glass_scene("block", "cube", [1.0, 4.0, 1.0], 2.0)).unwrap();
+    let dir = DVec3::new(3.4, -3.0, 0.0);
+    let origin = DVec3::new(0.4, 2.0, 0.0) - dir;
+    let root = trace_tree(&scene, origin, dir);
+    let inner = not_shadow(&root)[0];
+    let exit = inner.hit.as_ref().unwrap();
+    assert!(
+        (exit.point.x - 0.5).abs() < 1e-6,
+        "leaves by the side: {}",
+        exit.point
+    );
+    assert_eq!(inner.end, End::TotalInternalReflection);
+    assert!(not_shadow(inner).is_empty(), "nothing is traced on");
+    assert_eq!(inner.color, DVec3::ZERO);
+    assert_eq!(
+        root.color,
+        DVec3::ZERO,
+        "no local shading on the glass, nothing transmitted"
+    );
+    // rtlab's general refraction reflects inside instead, and brings light back.
+    let mut general = scene.clone();
+    general.render.course_refraction = false;
+    let root = trace_tree(&general, origin, dir);
+    assert_ne!(not_shadow(not_shadow(&root)[0]).len(), 0);
+}

@@ -339,22 +339,29 @@ fn template_blow_up_is_refused_quickly_with_its_path() {
     let o = rtlab(&["validate", p.to_str().unwrap()]);
     let e = stderr(&o);
     assert_eq!(o.status.code(), Some(2), "{e}");
+    // The limit is a memory budget, said the way the image-size limit is.
+    let max = rtlab::scene::cs1230::max_expanded();
+    let each = rtlab::scene::cs1230::bytes_per_primitive();
     assert!(
-        e.contains("expands to") && e.contains("more than the limit of 200000"),
+        e.contains("expands to")
+            && e.contains(&format!("GiB (about {each} bytes each); the limit is 3.0 GiB, about {max} primitives")),
         "{e}"
     );
-    // The culprit is the deepest group that alone is too large: inside t18 (2^18 > 200 000),
-    // whose two references to t17 are each small enough.
-    assert!(e.contains("t18"), "{e}");
+    // The culprit is the deepest group that alone is too large: inside t(k), the first
+    // template of more than `max` spheres, whose two references to t(k-1) are each small
+    // enough.
+    let k = (1..=24).find(|k| (1u64 << k) > max).unwrap();
+    assert!(e.contains(&format!("t{k}")), "{e}");
     assert!(
         e.contains("groups[1].groups[0] uses template \"t24\""),
         "{e}"
     );
-    // Just under the limit loads: 2^17 = 131072 spheres.
-    let body = body.replace(r#"{"name": "t24"}]}]}"#, r#"{"name": "t17"}]}]}"#);
-    let p = course_file("just_under.json", &body);
+    // Above the old limit of 200 000 primitives, the scene loads: 2^18 = 262144 spheres.
+    assert!(1 << 18 <= max);
+    let body = body.replace(r#"{"name": "t24"}]}]}"#, r#"{"name": "t18"}]}]}"#);
+    let p = course_file("above_old_limit.json", &body);
     let s = Scene::load(&p).unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(s.objects.len(), (1 << 17) + 1);
+    assert_eq!(s.objects.len(), (1 << 18) + 1);
 }
 
 #[test]

@@ -534,6 +534,27 @@ fn cases() -> Vec<Case> {
             vec!["explain", "scene.json", "--pixel", "3,3", "--sample", "5"],
             vec!["argument --sample", "sample 5 does not exist", "1 sample"],
         ),
+        c(
+            "a misspelt key in a course .ini",
+            vec![
+                ("scene.json", obj(SPHERE)),
+                ("x.ini", b"[IO]\n    scene = scene.json\n[Feature]\n    shadow = true\n".to_vec()),
+            ],
+            render("x.ini"),
+            vec!["x.ini: line 4:5:", "unknown key \"shadow\" in [Feature]", "did you mean \"shadows\"?"],
+        ),
+        c(
+            "a course .ini whose scene is not there",
+            vec![("x.ini", b"[IO]\n    scene = scenefiles/a.json\n".to_vec())],
+            render("x.ini"),
+            vec!["x.ini: line 2:13: [IO] scene: scenefile not found: tried scenefiles/a.json (from the current folder)"],
+        ),
+        c(
+            "an unknown --course-stage",
+            s(obj(SPHERE)),
+            vec!["render", "scene.json", "--course-stage", "raytrace"],
+            vec!["argument --course-stage", "unknown course stage \"raytrace\"", "intersect or illuminate"],
+        ),
     ]
 }
 

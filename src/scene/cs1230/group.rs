@@ -2,7 +2,7 @@
 //! (shared subtrees referenced by name), and the walk that instantiates it all in world space.
 
 use super::primitive::{self, LightDef, Prim};
-use super::{compose, FlatLight, FlatObject, MAX_EXPANDED};
+use super::{bytes_per_primitive, compose, max_expanded, FlatLight, FlatObject, MAX_SCENE_BYTES};
 use crate::error::{suggest, Error, Result};
 use crate::math::Transform;
 use crate::scene::json::Node;
@@ -176,18 +176,20 @@ impl<'a> Ctx<'a> {
             .fold(0u64, |s, c| s.saturating_add(self.count_of(c)))
     }
 
-    /// Refuses a scene that expands to more than [`MAX_EXPANDED`] primitives and lights,
-    /// naming the deepest group that alone is too large, and the template chain to it.
+    /// Refuses a scene that expands to more primitives and lights than fit in
+    /// [`MAX_SCENE_BYTES`], naming the deepest group that alone is too large, and the template
+    /// chain to it.
     pub fn check_size(&self, roots: &[Child]) -> Result<()> {
         let total = self.sum(roots);
-        if total <= MAX_EXPANDED {
+        let max = max_expanded();
+        if total <= max {
             return Ok(());
         }
         let mut at = "groups".to_string();
         let mut chain: Vec<String> = Vec::new();
         let mut children = roots;
         let mut count = total;
-        while let Some(c) = children.iter().find(|c| self.count_of(c) > MAX_EXPANDED) {
+        while let Some(c) = children.iter().find(|c| self.count_of(c) > max) {
             count = self.count_of(c);
             match c {
                 Child::Inline(g) => {
@@ -210,8 +212,15 @@ impl<'a> Ctx<'a> {
             self.file,
             at,
             format!(
-                "expands to {} primitives and lights, more than the limit of {MAX_EXPANDED}: nested template references multiply{via}",
-                if count == u64::MAX { "more than 2^64".to_string() } else { count.to_string() }
+                "expands to {} primitives and lights, which would need about {} GiB (about {} bytes each); the limit is {:.1} GiB, about {max} primitives: nested template references multiply{via}",
+                if count == u64::MAX { "more than 2^64".to_string() } else { count.to_string() },
+                if count == u64::MAX {
+                    "more than 2^64".to_string()
+                } else {
+                    format!("{:.1}", count as f64 * bytes_per_primitive() as f64 / (1u64 << 30) as f64)
+                },
+                bytes_per_primitive(),
+                MAX_SCENE_BYTES as f64 / (1u64 << 30) as f64,
             ),
         ))
     }

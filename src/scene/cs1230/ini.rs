@@ -276,19 +276,18 @@ fn unquote(v: &str) -> &str {
 }
 
 /// The course project's root for an ini: the nearest folder above it that holds
-/// `template_inis/` (none: the ini's own folder).
-pub fn project_root(ini: &Path) -> PathBuf {
+/// `template_inis/`, if any.
+pub fn project_root(ini: &Path) -> Option<PathBuf> {
     // The path as given first (messages then show relative paths), then the absolute one.
     let dir = ini.parent().unwrap_or(Path::new(""));
     if let Some(a) = dir.ancestors().find(|a| a.join("template_inis").is_dir()) {
-        return a.to_path_buf();
+        return Some(a.to_path_buf());
     }
-    let abs = ini.canonicalize().unwrap_or_else(|_| ini.to_path_buf());
-    let dir = abs.parent().unwrap_or(Path::new(""));
-    dir.ancestors()
+    let abs = ini.canonicalize().ok()?;
+    abs.parent()?
+        .ancestors()
         .find(|a| a.join("template_inis").is_dir())
-        .unwrap_or(dir)
-        .to_path_buf()
+        .map(Path::to_path_buf)
 }
 
 /// The stage the ini's folder names: `template_inis/intersect/…` or `…/illuminate/…`.
@@ -313,7 +312,17 @@ pub fn folder_stage(ini: &Path) -> Option<CourseStage> {
 /// [`crate::scene::open`] for the order).
 pub fn open(path: &Path, stage: Option<CourseStage>) -> Result<Loaded> {
     let ini = Ini::read(path)?;
-    let root = project_root(path);
+    // No template_inis/ above the ini: its own folder stands in for the project root.
+    let (root, root_name) = match project_root(path) {
+        Some(r) => (
+            r,
+            "from the project root, the folder holding template_inis/",
+        ),
+        None => (
+            path.parent().unwrap_or(Path::new("")).to_path_buf(),
+            "from the ini's folder: no template_inis/ folder above it",
+        ),
+    };
     let scene_entry = ini.get("IO", "scene").ok_or_else(|| {
         Error::input(
             path,
@@ -329,12 +338,16 @@ pub fn open(path: &Path, stage: Option<CourseStage>) -> Result<Loaded> {
     } else if root.join(rel).is_file() {
         (root.join(rel), root.clone())
     } else {
+        let also = if root.as_os_str().is_empty() {
+            String::new()
+        } else {
+            format!(" and {} ({root_name})", root.join(rel).display())
+        };
         return Err(ini.err(
             scene_entry,
             format!(
-                "scenefile not found: tried {} (from the current folder) and {} (from the project root, the folder holding template_inis/)",
+                "scenefile not found: tried {} (from the current folder){also}",
                 rel.display(),
-                root.join(rel).display()
             ),
         ));
     };

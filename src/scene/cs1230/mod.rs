@@ -29,10 +29,31 @@ use std::path::{Path, PathBuf};
 pub const DEFAULT_WIDTH: u32 = 1024;
 pub const DEFAULT_HEIGHT: u32 = 768;
 
-/// Most primitives and lights a scenefile may expand to once templates are instantiated.
-/// Templates nest, so a few lines can ask for 2^40 copies: the count is computed before
-/// anything is built, and a larger scene is refused with the JSON path of the culprit.
-pub const MAX_EXPANDED: u64 = 200_000;
+/// Memory a scenefile may take once its templates are instantiated. Templates nest, so a
+/// few lines can ask for 2^40 copies: the count is computed before anything is built, and a
+/// scene whose estimate ([`bytes_per_primitive`]) is above this is refused with the JSON path
+/// of the culprit, the way an image too large is refused ([`crate::scene::check_size`]).
+/// The course's largest scene (`recursive_sphere_9`, 585 940 primitives and lights) needs
+/// about a third of it.
+pub const MAX_SCENE_BYTES: u64 = 3 << 30;
+
+/// Estimated bytes one expanded primitive costs at the peak of loading: its flat record and
+/// its object, its material (each primitive owns one), its name, and its share of the BVH
+/// (a leaf slot, its bounds while building, and inner nodes). Measured peak of a 586k-sphere
+/// scene: see the README's CS1230 section.
+pub fn bytes_per_primitive() -> u64 {
+    use std::mem::size_of;
+    let names = 2 * 24; // the object's and its material's name ("sphere#123456")
+    let bvh = 96; // build records and the nodes' share
+    (size_of::<FlatObject>() + size_of::<Object>() + 2 * size_of::<Material>() + names + bvh)
+        as u64
+}
+
+/// Most primitives and lights a scenefile may expand to: [`MAX_SCENE_BYTES`] at
+/// [`bytes_per_primitive`].
+pub fn max_expanded() -> u64 {
+    MAX_SCENE_BYTES / bytes_per_primitive()
+}
 
 /// Maximum recursion of the course's reference renderer: `maximum-recursive-depth = 4` in every
 /// Illuminate ini, i.e. up to 4 bounces after the primary hit (FORMAT §8). rtlab's
@@ -141,6 +162,8 @@ pub fn course_settings() -> RenderSettings {
         min_contribution: 0.0,
         background: DVec3::ZERO,
         clamp_each_ray: true,
+        // Refraction the course's way (FORMAT §8): two bends, no inner shading, no TIR.
+        course_refraction: true,
         ..RenderSettings::default()
     }
 }

@@ -80,10 +80,13 @@ pub fn ignored_lights_note(scene: &Scene) -> Option<String> {
         .iter()
         .map(|(kind, names)| {
             let plural = if names.len() == 1 { "" } else { "s" };
+            // At most 6 names: a template can place a light hundreds of times.
+            let shown = names.len().min(6);
+            let more = if names.len() > shown { ", …" } else { "" };
             format!(
-                "{} {kind} light{plural} ({})",
+                "{} {kind} light{plural} ({}{more})",
                 names.len(),
-                names.join(", ")
+                names[..shown].join(", ")
             )
         })
         .collect();
@@ -91,4 +94,42 @@ pub fn ignored_lights_note(scene: &Scene) -> Option<String> {
         "ignored {}: the Intersect stage renders directional lights only",
         parts.join(" and ")
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shading::{Light, LightKind};
+    use glam::DVec3;
+
+    #[test]
+    fn the_note_counts_by_kind_and_names_a_few() {
+        let mut scene = crate::scene::Scene::load(std::path::Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/tests/cs1230/scenes/lights.json"
+        )))
+        .unwrap();
+        assert_eq!(
+            ignored_lights_note(&scene),
+            None,
+            "only under directional_only"
+        );
+        CourseStage::Intersect.apply(&mut scene.render);
+        let point = |i: usize| Light {
+            name: format!("p{i}"),
+            kind: LightKind::Point {
+                position: DVec3::ZERO,
+            },
+            color: DVec3::ONE,
+            attenuation: [1.0, 0.0, 0.0],
+        };
+        scene.lights.retain(|l| l.is_directional());
+        scene.lights.extend((0..8).map(point));
+        assert_eq!(
+            ignored_lights_note(&scene).unwrap(),
+            "ignored 8 point lights (p0, p1, p2, p3, p4, p5, …): the Intersect stage renders directional lights only"
+        );
+        scene.lights.retain(|l| l.is_directional());
+        assert_eq!(ignored_lights_note(&scene), None);
+    }
 }
