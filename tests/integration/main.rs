@@ -8,6 +8,7 @@ mod csg;
 mod errors;
 mod explain;
 mod intersect;
+mod mistakes;
 mod props;
 mod render;
 mod robust;
