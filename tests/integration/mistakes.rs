@@ -802,3 +802,19 @@ fn inverted_eta_changes_only_what_is_seen_through_glass() {
         on(&hit[i], &["glass"])
     });
 }
+
+#[test]
+fn the_gallery_shows_every_mistake() {
+    let chapter = std::fs::read_to_string(path("book/src/15-when-your-image-is-wrong.md")).unwrap();
+    let lesson = std::fs::read_to_string(path("lessons/15-when-your-image-is-wrong.json")).unwrap();
+    for m in Mistake::ALL {
+        assert!(chapter.contains(&format!("| `{}` |", m.name())), "{m} has no row in chapter 15");
+        // The Intersect-stage pair needs the stage's switch to be rendered from the CLI.
+        if !matches!(m, Mistake::IntersectPointLights | Mistake::IntersectShadows) {
+            assert!(
+                lesson.contains(&format!("--mistake {} ", m.name())),
+                "{m} has no figure in lessons/15"
+            );
+        }
+    }
+}
