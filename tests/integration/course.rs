@@ -450,10 +450,7 @@ fn texture_filter_flag_changes_the_lookup() {
 fn trace_tree(scene: &Scene, origin: glam::DVec3, dir: glam::DVec3) -> rtlab::trace::RayNode {
     use rtlab::trace::{RayKind, Tracer, TreeRecorder};
     let mut rec = TreeRecorder::new(scene);
-    let tracer = Tracer {
-        scene,
-        settings: &scene.render,
-    };
+    let tracer = Tracer::new(scene, &scene.render);
     let mut rng = rtlab::math::Rng::new(&[0]);
     let ray = rtlab::math::Ray::new(origin, dir.normalize());
     tracer.trace(

@@ -11,12 +11,9 @@ mod csg;
 mod errors;
 mod explain;
 mod intersect;
-<<<<<<< HEAD
 mod progressive;
 mod limits;
-=======
 mod mistakes;
->>>>>>> issue19
 mod props;
 mod render;
 mod robust;
