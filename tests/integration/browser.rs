@@ -13,6 +13,7 @@ use fantoccini::actions::{InputSource, MouseActions, PointerAction, MOUSE_BUTTON
 use fantoccini::{Client, ClientBuilder, Locator};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
+use std::os::unix::process::CommandExt;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -42,7 +43,10 @@ impl Driver {
             .local_addr()
             .unwrap()
             .port();
+        // Its own process group, so that dropping the driver also ends the Chromium it
+        // started, even when the test fails half-way.
         let child = Command::new(bin)
+            .process_group(0)
             .arg(format!("--port={port}"))
             .stdout(Stdio::null())
             .stderr(Stdio::null())
@@ -65,6 +69,10 @@ impl Driver {
 
 impl Drop for Driver {
     fn drop(&mut self) {
+        let _ = Command::new("kill")
+            .arg("-TERM")
+            .arg(format!("-{}", self.child.id()))
+            .status();
         let _ = self.child.kill();
         let _ = self.child.wait();
     }
@@ -283,6 +291,57 @@ fn the_page_in_a_real_browser() {
         assert_eq!(page_changed, cli_changed, "the page changed exactly where render --no-shadows differs");
         // The selected pixel's explanation followed the switch.
         wait_js(&c, "return document.getElementById('ledger').textContent.length > 0 && !document.getElementById('ledger').textContent.includes('in shadow');", "the explanation without shadows").await;
+
+        // Steps: the scrubber walks `rtlab steps`' frames.
+        c.find(Locator::Css("nav button[data-mode='steps']"))
+            .await
+            .unwrap()
+            .click()
+            .await
+            .unwrap();
+        wait_js(
+            &c,
+            "const f = document.getElementById('steps-frame'); return f.complete && f.naturalWidth > 0 && Number(document.getElementById('steps-slider').max) >= 2;",
+            "the first steps frame",
+        )
+        .await;
+        c.execute(
+            "const s = document.getElementById('steps-slider'); s.value = '2'; s.dispatchEvent(new Event('input'));",
+            vec![],
+        )
+        .await
+        .unwrap();
+        let caption = wait_js(
+            &c,
+            "const f = document.getElementById('steps-frame'); return f.complete && f.src.includes('i=2') && f.naturalWidth > 0 ? document.getElementById('steps-caption').textContent : '';",
+            "steps frame 3",
+        )
+        .await;
+        let list: Value = serde_json::from_slice(&server.get("/api/steps?no-shadows").body).unwrap();
+        assert_eq!(caption, list[2]["caption"], "the page shows frame 3's caption");
+        screenshot(&c, "serve-steps.png").await;
+
+        // Compare: two runs side by side and where they differ.
+        c.find(Locator::Css("nav button[data-mode='compare']"))
+            .await
+            .unwrap()
+            .click()
+            .await
+            .unwrap();
+        let count = wait_js(
+            &c,
+            "return document.getElementById('cmp-count').textContent;",
+            "the comparison",
+        )
+        .await;
+        assert!(count.as_str().unwrap().contains("pixels differ"), "{count}");
+        screenshot(&c, "serve-compare.png").await;
+        c.find(Locator::Css("nav button[data-mode='explore']"))
+            .await
+            .unwrap()
+            .click()
+            .await
+            .unwrap();
 
         // Edit the scene file: the page re-renders on save.
         let text = std::fs::read_to_string(&scene).unwrap();

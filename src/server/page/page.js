@@ -5,6 +5,7 @@
 
 const $ = (id) => document.getElementById(id);
 const STREAM = "page-" + Math.random().toString(36).slice(2);
+const PREVIEW = 8; // the preview's pixels are this many of the image's, across and down
 const PRIMARY = ["no-shadows", "no-reflections", "no-refractions", "no-textures", "max-depth",
   "spp", "sampler", "filter", "course-stage", "mistake"];
 
@@ -89,10 +90,11 @@ async function buildControls() {
 }
 
 // The render options chosen on the page, as a query string (flags as bare keys).
-function renderQuery() {
+function renderQuery(except) {
   const parts = [];
   for (const input of document.querySelectorAll("[data-option]")) {
     const name = input.dataset.option;
+    if (except && except.includes(name)) continue;
     if (input.type === "checkbox") { if (input.checked) parts.push(encodeURIComponent(name)); }
     else if (input.value.trim() !== "") parts.push(encodeURIComponent(name) + "=" + encodeURIComponent(input.value.trim()));
   }
@@ -194,14 +196,17 @@ async function loadImage(url, signal) {
   return bmp;
 }
 
-function show(bmp, kind, query) {
-  const sized = bmp.width !== state.width || bmp.height !== state.height;
-  state.image = bmp; state.kind = kind;
-  state.width = bmp.width; state.height = bmp.height;
-  const off = new OffscreenCanvas(bmp.width, bmp.height);
+// Shows an image; a preview is stretched to the full image's size `w`×`h` with big pixels.
+function show(bmp, kind, query, w, h) {
+  w = w || bmp.width; h = h || bmp.height;
+  const sized = w !== state.width || h !== state.height;
+  const off = new OffscreenCanvas(w, h);
   const octx = off.getContext("2d");
-  octx.drawImage(bmp, 0, 0);
-  state.pixels = octx.getImageData(0, 0, bmp.width, bmp.height, { colorSpace: "srgb" });
+  octx.imageSmoothingEnabled = false;
+  octx.drawImage(bmp, 0, 0, w, h);
+  state.image = off; state.kind = kind;
+  state.width = w; state.height = h;
+  state.pixels = octx.getImageData(0, 0, w, h, { colorSpace: "srgb" });
   view.dataset.state = kind;
   view.dataset.query = query;
   if (sized || state.fitted) fit(); else draw();
@@ -213,8 +218,9 @@ function setStatus(text, error) {
   s.className = error ? "error" : "";
 }
 
-// Coarse preview first (every 8th pixel traced), then the full image; the selected pixel's
-// explanation follows. A newer call makes older answers stale (and cancels them on the server).
+// Coarse preview first (the scene rendered at 1/8 of its width and height, one ray per 8×8
+// block, shown with big pixels), then the full image; the selected pixel's explanation
+// follows. A newer call makes older answers stale (and cancels them on the server).
 async function rerender() {
   const my = ++state.generation;
   if (state.controller) state.controller.abort();
@@ -227,18 +233,23 @@ async function rerender() {
   view.dataset.state = "rendering";
   try {
     const t0 = performance.now();
-    if (!/(^|&)subsample=/.test(q) && !aov) {
-      setStatus("preview (every 8th pixel)…");
-      const p = await loadImage("/api/render.png?" + join(q, "subsample=8", own), controller.signal);
+    const info = await getJson("/api/scene?" + q);
+    if (stale()) return;
+    showSceneInfo(info);
+    const pw = Math.ceil(info.width / PREVIEW), ph = Math.ceil(info.height / PREVIEW);
+    if (info.width * info.height > 64 * 64) {
+      setStatus("preview (one ray per 8×8 pixels)…");
+      const p = await loadImage("/api/render.png?" + join(renderQuery(["width", "height"]), `width=${pw}&height=${ph}`, own), controller.signal);
       if (stale()) return;
-      if (p) show(p, "preview", q);
+      if (p) {
+        show(p, "preview", q, info.width, info.height);
+        setStatus(`preview after ${Math.round(performance.now() - t0)} ms; rendering the full image…`);
+      }
     }
-    setStatus("rendering the full image…");
     const img = await loadImage("/api/render.png?" + join(q, own), controller.signal);
     if (stale() || !img) return;
     show(img, "full", q);
     setStatus(`full image, ${state.width}×${state.height}, ${Math.round(performance.now() - t0)} ms` + (q ? "  ·  " + q : ""));
-    loadSceneInfo(q);
     if (state.selected) explain();
     if (!$("steps").hidden) loadSteps();
   } catch (e) {
@@ -248,15 +259,12 @@ async function rerender() {
   }
 }
 
-async function loadSceneInfo(q) {
-  try {
-    const s = await getJson("/api/scene?" + q);
-    $("scene-name").textContent = s.file.split(/[\\/]/).pop();
-    $("scene-name").title = s.file + " (watched: save it to re-render)";
-    const obj = s.objects.map((o) => `${o.name} (${o.shape}, ${o.material})`).join(", ");
-    const lights = s.lights.map((l) => `${l.name} (${l.kind})`).join(", ");
-    $("scene-info").textContent = `${s.width}×${s.height}, ${s.render.spp} spp ${s.render.sampler}, max depth ${s.render.max_depth} · objects: ${obj} · lights: ${lights} · ${s.materials.length} material(s)`;
-  } catch (e) { /* the render's own message is already shown */ }
+function showSceneInfo(s) {
+  $("scene-name").textContent = s.file.split(/[\\/]/).pop();
+  $("scene-name").title = s.file + " (watched: save it to re-render)";
+  const obj = s.objects.map((o) => `${o.name} (${o.shape}, ${o.material})`).join(", ");
+  const lights = s.lights.map((l) => `${l.name} (${l.kind})`).join(", ");
+  $("scene-info").textContent = `${s.width}×${s.height}, ${s.render.spp} spp ${s.render.sampler}, max depth ${s.render.max_depth} · objects: ${obj} · lights: ${lights} · ${s.materials.length} material(s)`;
 }
 
 // ---------------------------------------------------------------- explanation
