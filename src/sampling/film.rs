@@ -1,4 +1,5 @@
-use super::{sample_pixel, Filter, PixelSample};
+use super::sampler::sample_pixel_into;
+use super::{Filter, PixelSample};
 use crate::scene::{Encoding, RenderSettings, Scene};
 use super::bundles::{tile_camera_rays, BundleTally};
 use crate::accel::Traversal;
@@ -194,10 +195,11 @@ fn render_with<R: Tally>(
     let (w, h) = (scene.camera.width, scene.camera.height);
     let stopped = std::sync::atomic::AtomicBool::new(false);
     let start = Instant::now();
-    /// One tile's samples and counts, pixel by pixel in the tile's own row-major order,
-    /// and its first non-finite sample.
+    /// One tile's samples (all in one vector, pixel by pixel in the tile's own row-major
+    /// order, with where each pixel's start: `ends[l]` is one past pixel l's last) and
+    /// counts, and its first non-finite sample.
     type Traced = (
-        Vec<Vec<PixelSample>>,
+        (Vec<PixelSample>, Vec<u32>),
         Vec<Option<(RayCounts, u64, u64)>>,
         Option<(u32, u32, u32)>,
         BundleTally,
@@ -209,23 +211,24 @@ fn render_with<R: Tally>(
         .map(|tile| {
             if crate::interrupt::requested() {
                 // Ctrl-C: skip the remaining tiles; the caller writes nothing.
-                return (Vec::new(), Vec::new(), None, BundleTally::default());
+                return Default::default();
             }
             if stopped.load(std::sync::atomic::Ordering::Relaxed) || stop() {
                 stopped.store(true, std::sync::atomic::Ordering::Relaxed);
-                return (Vec::new(), Vec::new(), None, BundleTally::default());
+                return Default::default();
             }
             let mut tally = BundleTally::default();
             // Bundles: every camera ray of the tile, its closest hit already found.
             let mut cameras = bundled
                 .then(|| tile_camera_rays(scene, settings, tile, &mut tally))
                 .flatten();
-            let mut samples = Vec::with_capacity(tile.len());
+            let mut samples = Vec::with_capacity(tile.len() * (settings.spp as usize).min(16));
+            let mut ends = Vec::with_capacity(tile.len());
             let mut stats = Vec::with_capacity(tile.len());
             let mut nan = None;
             for (local, (x, y)) in tile.pixels().enumerate() {
                 let mut rec = R::default();
-                let px = sample_pixel(settings, w, h, x, y, |k, film| {
+                sample_pixel_into(settings, w, h, x, y, &mut samples, |k, film| {
                     let camera = cameras
                         .as_mut()
                         .and_then(|c| c[local][k as usize].take())
@@ -239,13 +242,13 @@ fn render_with<R: Tally>(
                         DVec3::ZERO
                     }
                 });
-                samples.push(px);
+                ends.push(samples.len() as u32);
                 stats.push(rec.into_stats());
             }
             if let Some(p) = progress {
                 p.inc(tile.len() as u64);
             }
-            (samples, stats, nan, tally)
+            ((samples, ends), stats, nan, tally)
         })
         .collect();
     let trace_seconds = start.elapsed().as_secs_f64();
@@ -287,8 +290,12 @@ fn render_with<R: Tally>(
             st.bundles.add(&t.3);
         }
     }
-    let grid: Vec<&Vec<PixelSample>> = row_major_order(w, h)
-        .map(|(t, l)| &traced[t].0[l])
+    let grid: Vec<&[PixelSample]> = row_major_order(w, h)
+        .map(|(t, l)| {
+            let (samples, ends) = &traced[t].0;
+            let start = if l == 0 { 0 } else { ends[l - 1] as usize };
+            &samples[start..ends[l] as usize]
+        })
         .collect();
     let spp_map = Some(grid.iter().map(|s| s.len() as u32).collect());
     let filter = Filter::for_settings(settings);
