@@ -53,7 +53,6 @@ impl Bvh {
     ) {
         self.closest_bundle_seen(rays, active, t_min, t_max, work, test, |_, _, _| {});
     }
-    // ANCHOR_END: closest_bundle
 
     /// [`Bvh::closest_bundle`], telling `seen(node, lane, rays)` about every non-empty child
     /// lane of every node it opens: `rays` is the mask of the bundle's rays that enter it
@@ -156,4 +155,5 @@ impl Bvh {
             }
         }
     }
+    // ANCHOR_END: closest_bundle
 }
