@@ -351,6 +351,67 @@ fn mesh_only_seconds(scene: &Scene, cam: &HarnessCamera, pool: &rayon::ThreadPoo
     seconds
 }
 
+/// The camera rays in bundles of 4×4 pixels within each tile, through
+/// `Accel::closest_bundle`: seconds and t per pixel (−1 for a miss), row-major.
+fn bundle_pass(scene: &Scene, cam: &HarnessCamera, pool: &rayon::ThreadPool) -> (f64, Vec<f64>) {
+    use rtlab::accel::{BundleCost, BUNDLE};
+    let start = Instant::now();
+    let traced = per_tile(pool, |tile| {
+        let mut t = vec![-1.0; tile.len()];
+        let tw = tile.x.len();
+        let mut rays = Vec::with_capacity(BUNDLE);
+        let mut local = Vec::with_capacity(BUNDLE);
+        for by in tile.y.clone().step_by(4) {
+            for bx in tile.x.clone().step_by(4) {
+                rays.clear();
+                local.clear();
+                for y in by..(by + 4).min(tile.y.end) {
+                    for x in bx..(bx + 4).min(tile.x.end) {
+                        rays.push(cam.ray(x as usize, y as usize));
+                        local.push((y - tile.y.start) as usize * tw + (x - tile.x.start) as usize);
+                    }
+                }
+                let mut cost = BundleCost::default();
+                let hits = scene
+                    .accel
+                    .closest_bundle(&scene.objects, &rays, 0.0, &mut cost);
+                for (j, &l) in local.iter().enumerate() {
+                    t[l] = hits[j].map_or(-1.0, |(_, h)| h.t);
+                }
+            }
+        }
+        t
+    });
+    let seconds = start.elapsed().as_secs_f64();
+    (seconds, row_major(&traced))
+}
+
+/// The harness's view as an rtlab scene (its eye, centre and 40° vertical field of view,
+/// 1280×720, the mesh white diffuse, no lights): what `rtlab render` itself traces.
+fn render_view(obj: &Path, cam: &HarnessCamera, dir: &Path) -> Scene {
+    let file = dir.join(format!(
+        "{}-view.json",
+        obj.file_stem().unwrap().to_string_lossy()
+    ));
+    let at = cam.eye.map(|x| x as f64);
+    let look = add(cam.eye, cam.fwd).map(|x| x as f64);
+    let json = serde_json::json!({
+        "camera": {"position": at, "look_at": look, "up": [0, 1, 0], "fov_y": 40,
+                   "width": W, "height": H},
+        "objects": [{"shape": "mesh", "file": obj.to_string_lossy()}]
+    });
+    std::fs::write(&file, json.to_string()).expect("writable temp folder");
+    Scene::load(&file).expect("the view loads")
+}
+
+/// Camera rays per second of `rtlab render`'s own trace time on the view.
+fn render_mrays(view: &Scene, traversal: rtlab::accel::Traversal, pool: &rayon::ThreadPool) -> f64 {
+    let mut settings = view.render.clone();
+    settings.traversal = traversal;
+    let out = pool.install(|| rtlab::sampling::render(view, &settings, false, None));
+    (W * H) as f64 / out.trace_seconds / 1e6
+}
+
 /// One shadow ray per camera hit, towards the harness's light, from t_min = 1e-4·R as the
 /// harness does. Returns (seconds, rays, occluded).
 fn shadow_pass(
@@ -441,6 +502,8 @@ fn peak_memory_mib(obj: &Path) -> Option<f64> {
 struct EmbreeRun {
     build_ms: f64,
     single: f64,
+    packet8: f64,
+    packet16: f64,
     hits: u64,
     sum_t: f64,
     shadow: f64,
@@ -451,11 +514,14 @@ struct EmbreeRun {
     mask: Vec<bool>,
 }
 
-fn run_embree(bin: &Path, obj: &Path, ppm: &Path) -> Option<EmbreeRun> {
+/// One run of the harness over `modes`; its peak memory counts every mode's buffers, so the
+/// memory column comes from a run of `single,shadow` alone (the modes it had before the
+/// packet modes were added).
+fn run_embree(bin: &Path, obj: &Path, ppm: &Path, modes: &str) -> Option<EmbreeRun> {
     let out = Command::new(bin)
         .arg(obj)
         .args(["--size", "1280x720", "--threads", "2", "--runs", "1"])
-        .args(["--modes", "single,shadow", "--ppm"])
+        .args(["--modes", modes, "--ppm"])
         .arg(ppm)
         .output()
         .ok()?;
@@ -475,6 +541,10 @@ fn run_embree(bin: &Path, obj: &Path, ppm: &Path) -> Option<EmbreeRun> {
                 .parse()
                 .ok()?;
             r.sum_t = after("sum_t")?;
+        } else if line.starts_with("packet8") {
+            r.packet8 = after("median")?;
+        } else if line.starts_with("packet16") {
+            r.packet16 = after("median")?;
         } else if line.starts_with("shadow") {
             r.shadow = after("median")?;
             r.shadow_rays = after("rays")? as u64;
@@ -501,6 +571,11 @@ struct MeshRow {
     explain_ms: f64,
     build_ms: f64,
     camera: f64,
+    bundle: f64,
+    /// The renderer's own trace time for the same view (generation, traversal, shading of
+    /// a diffuse material without lights, film): single rays and bundles.
+    render: f64,
+    render_bundle: f64,
     mesh_only: f64,
     shadow: f64,
     peak_mib: Option<f64>,
@@ -514,6 +589,8 @@ struct MeshRow {
 struct EmbreeSummary {
     build_ms: f64,
     camera: f64,
+    packet8: f64,
+    packet16: f64,
     shadow: f64,
     peak_mib: f64,
     hits: u64,
@@ -561,15 +638,21 @@ fn bench_mesh(
     let ppm = tmp.join(format!("{name}.ppm"));
     let (mut b, mut c, mut m, mut s) = (vec![], vec![], vec![], vec![]);
     let (mut eb, mut ec, mut es, mut em) = (vec![], vec![], vec![], vec![]);
+    let (mut e8, mut e16, mut bu, mut rs, mut rb) = (vec![], vec![], vec![], vec![], vec![]);
+    let view = render_view(obj, &cam, tmp);
     let mut last_embree = None;
     let mut last = None;
     for round in 0..runs {
         if let Some(bin) = embree {
-            if let Some(e) = run_embree(bin, obj, &ppm) {
+            if let Some(e) = run_embree(bin, obj, &ppm, "single,packet8,packet16,shadow") {
                 eb.push(e.build_ms);
                 ec.push(e.single);
+                e8.push(e.packet8);
+                e16.push(e.packet16);
                 es.push(e.shadow);
-                em.push(e.peak_mib);
+                em.push(
+                    run_embree(bin, obj, &ppm, "single,shadow").map_or(e.peak_mib, |s| s.peak_mib),
+                );
                 last_embree = Some(e);
             } else if round == 0 {
                 println!("  Embree harness failed on this mesh");
@@ -581,11 +664,22 @@ fn bench_mesh(
         let (secs, rays, occ) = shadow_pass(&scene, &cam, &pass, pool);
         s.push(rays as f64 / secs / 1e6);
         m.push((W * H) as f64 / mesh_only_seconds(&scene, &cam, pool) / 1e6);
+        let bundled = bundle_pass(&scene, &cam, pool);
+        assert!(
+            bundled.1 == pass.t,
+            "{name}: the bundles found other hits than single rays"
+        );
+        bu.push((W * H) as f64 / bundled.0 / 1e6);
+        rs.push(render_mrays(&view, rtlab::accel::Traversal::Single, pool));
+        rb.push(render_mrays(&view, rtlab::accel::Traversal::Bundle, pool));
         println!(
-            "  round {}: build {:.1} ms, camera {:.2} Mrays/s, shadow {:.2} Mrays/s{}",
+            "  round {}: build {:.1} ms, camera {:.2} Mrays/s (bundles {:.2}, render {:.2} / {:.2}), shadow {:.2} Mrays/s{}",
             round + 1,
             b[round],
             c[round],
+            bu[round],
+            rs[round],
+            rb[round],
             s[round],
             match (ec.last(), es.last()) {
                 (Some(x), Some(y)) if ec.len() == round + 1 => format!(
@@ -608,6 +702,8 @@ fn bench_mesh(
         EmbreeSummary {
             build_ms: median(eb),
             camera: median(ec),
+            packet8: median(e8),
+            packet16: median(e16),
             shadow: median(es),
             peak_mib: median(em),
             hits: e.hits,
@@ -623,6 +719,9 @@ fn bench_mesh(
         explain_ms,
         build_ms: median(b),
         camera: median(c),
+        bundle: median(bu),
+        render: median(rs),
+        render_bundle: median(rb),
         mesh_only: median(m),
         shadow: median(s),
         peak_mib: peak_memory_mib(obj),
@@ -668,6 +767,37 @@ fn print_mesh_table(rows: &[MeshRow]) {
         );
     }
     println!("2-level: how much faster the same camera rays run straight into the mesh's BVH, skipping the scene level");
+    println!();
+    println!("camera rays, Mrays/s (medians); ratios to Embree's rtcIntersect1 (x1), rtcIntersect8 (x8), rtcIntersect16 (x16) of the same run");
+    println!(
+        "{:<17} | {:>7} {:>7} {:>7} | {:>7} {:>5} {:>5} | {:>7} {:>5} {:>5} {:>5} | {:>7} {:>5} | {:>7} {:>5}",
+        "mesh", "Embree1", "Embree8", "Emb16", "single", "x1", "x16", "bundle", "x1", "x16", "/sgl", "render", "x1", "r+bndl", "x1"
+    );
+    for r in rows {
+        let e = r.embree.as_ref();
+        let f = |x: Option<f64>, p: usize| x.map_or("-".to_string(), |v| format!("{v:.p$}"));
+        let ratio = |x: f64, by: fn(&EmbreeSummary) -> f64| f(e.map(|e| x / by(e)), 2);
+        println!(
+            "{:<17} | {:>7} {:>7} {:>7} | {:>7.2} {:>5} {:>5} | {:>7.2} {:>5} {:>5} {:>5.2} | {:>7.2} {:>5} | {:>7.2} {:>5}",
+            r.name,
+            f(e.map(|e| e.camera), 2),
+            f(e.map(|e| e.packet8), 2),
+            f(e.map(|e| e.packet16), 2),
+            r.camera,
+            ratio(r.camera, |e| e.camera),
+            ratio(r.camera, |e| e.packet16),
+            r.bundle,
+            ratio(r.bundle, |e| e.camera),
+            ratio(r.bundle, |e| e.packet16),
+            r.bundle / r.camera,
+            r.render,
+            ratio(r.render, |e| e.camera),
+            r.render_bundle,
+            ratio(r.render_bundle, |e| e.camera),
+        );
+    }
+    println!("bundle: the same rays in 4x4 blocks through Accel::closest_bundle (same hits, checked); /sgl: bundle / single");
+    println!("render, r+bndl: `rtlab render` of the same view (its own camera, a diffuse mesh, no lights: generation, traversal, shading, film), trace time, --traversal single / bundle");
     println!();
     println!(
         "checksums (camera rays: hits, Σt; shadow rays: occluded of rays) and memory per triangle"

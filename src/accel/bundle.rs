@@ -41,6 +41,7 @@ impl Bvh {
     /// against the rays whose bits are set in `rays` and lowers `t_max[i]` for each ray that
     /// hit it closer (keeping the hit itself). The children of an opened node are visited
     /// nearest first by the nearest entry of any ray.
+    #[inline]
     pub fn closest_bundle(
         &self,
         rays: &[Ray],
@@ -48,7 +49,25 @@ impl Bvh {
         t_min: f64,
         t_max: &mut [f64; BUNDLE],
         work: &mut BundleWork,
+        test: impl FnMut(usize, u32, &mut [f64; BUNDLE]),
+    ) {
+        self.closest_bundle_seen(rays, active, t_min, t_max, work, test, |_, _, _| {});
+    }
+
+    /// [`Bvh::closest_bundle`], telling `seen(node, lane, rays)` about every non-empty child
+    /// lane of every node it opens: `rays` is the mask of the bundle's rays that enter it
+    /// (0: culled, every ray missed it). For figures; the render passes a no-op.
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    pub fn closest_bundle_seen(
+        &self,
+        rays: &[Ray],
+        active: u32,
+        t_min: f64,
+        t_max: &mut [f64; BUNDLE],
+        work: &mut BundleWork,
         mut test: impl FnMut(usize, u32, &mut [f64; BUNDLE]),
+        mut seen: impl FnMut(usize, usize, u32),
     ) {
         if self.nodes.is_empty() || active == 0 {
             return;
@@ -80,6 +99,9 @@ impl Bvh {
             // Children entered by some ray, farthest (by the nearest ray's entry) pushed first.
             let mut order: ArrayVec<(f32, usize), WIDTH> = ArrayVec::new();
             for lane in 0..WIDTH {
+                if !nd.is_empty(lane) {
+                    seen(node, lane, lane_rays[lane]);
+                }
                 if lane_rays[lane] != 0 {
                     let mut first = f32::INFINITY;
                     let mut r = lane_rays[lane];

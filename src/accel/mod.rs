@@ -6,7 +6,7 @@ mod bundle;
 mod bvh;
 
 pub use bundle::{BundleWork, BUNDLE};
-pub use bvh::{Bvh, Node};
+pub use bvh::{Bvh, Node, WIDTH};
 
 use crate::math::Ray;
 use crate::mistakes::{Mistake, Mistakes};

@@ -34,6 +34,10 @@ pub struct Args {
     /// (the camera ray and its first reflection or refraction).
     #[arg(long, value_name = "camera|bounce", default_value = "camera")]
     pub diagram_plane: String,
+    /// Draw the 4×4 bundle of camera rays holding this pixel over the first mesh's BVH
+    /// (seen from above: the boxes it opened and the ones it culled) to this PNG.
+    #[arg(long, value_name = "OUT.png")]
+    pub bundle_diagram: Option<PathBuf>,
     #[command(flatten)]
     pub render: RenderArgs,
 }
@@ -60,8 +64,16 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
     if let Some(d) = &args.diagram {
         crate::output::check_writable(d, "--diagram")?;
     }
+    if let Some(d) = &args.bundle_diagram {
+        crate::output::check_writable(d, "--bundle-diagram")?;
+    }
     let scene = args.render.load(&args.scene)?;
     let (x, y) = parse_pixel(&args.pixel, scene.camera.width, scene.camera.height)?;
+    if let Some(path) = &args.bundle_diagram {
+        crate::viz::bundle::draw(&scene, x, y)
+            .map_err(|m| Error::arg("--bundle-diagram", m))?
+            .write_png(path)?;
+    }
     let mut e = explain(&scene, x, y);
     // Ctrl-C inside a huge tree cuts it short: print nothing rather than a partial tree.
     crate::interrupt::check()?;

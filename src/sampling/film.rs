@@ -1,4 +1,5 @@
-use super::{sample_pixel, Filter, PixelSample};
+use super::sampler::sample_pixel_into;
+use super::{Filter, PixelSample};
 use crate::mistakes::{Mistake, Mistakes};
 use crate::scene::{Encoding, RenderSettings, Scene};
 use super::bundles::{tile_camera_rays, BundleTally};
@@ -245,10 +246,11 @@ fn render_with<R: Tally>(
     let (w, h) = (scene.camera.width, scene.camera.height);
     let stopped = std::sync::atomic::AtomicBool::new(false);
     let start = Instant::now();
-    /// One tile's samples and counts, pixel by pixel in the tile's own row-major order,
-    /// its first non-finite sample, and its samples the ray budget cut (count, first).
+    /// One tile's samples (all in one vector, pixel by pixel in the tile's own row-major
+    /// order, with where each pixel's start: `ends[l]` is one past pixel l's last) and
+    /// counts, its first non-finite sample, and its samples the ray budget cut (count, first).
     type Traced = (
-        Vec<Vec<PixelSample>>,
+        (Vec<PixelSample>, Vec<u32>),
         Vec<Option<(RayCounts, u64, u64)>>,
         Option<(u32, u32, u32)>,
         (u64, Option<(u32, u32, u32)>),
@@ -262,14 +264,15 @@ fn render_with<R: Tally>(
         .map(|tile| {
             if stopped.load(std::sync::atomic::Ordering::Relaxed) || stop() {
                 stopped.store(true, std::sync::atomic::Ordering::Relaxed);
-                return (Vec::new(), Vec::new(), None, (0, None), BundleTally::default());
+                return Default::default();
             }
             let mut tally = BundleTally::default();
             // Bundles: every camera ray of the tile, its closest hit already found.
             let mut cameras = bundled
                 .then(|| tile_camera_rays(scene, settings, tile, &mut tally))
                 .flatten();
-            let mut samples = Vec::with_capacity(tile.len());
+            let mut samples = Vec::with_capacity(tile.len() * (settings.spp as usize).min(16));
+            let mut ends = Vec::with_capacity(tile.len());
             let mut stats = Vec::with_capacity(tile.len());
             let mut nan = None;
             let mut cut = (0, None);
@@ -279,7 +282,7 @@ fn render_with<R: Tally>(
                     break;
                 }
                 let mut rec = R::default();
-                let px = sample_pixel(settings, w, h, x, y, |k, film| {
+                sample_pixel_into(settings, w, h, x, y, &mut samples, |k, film| {
                     let camera = cameras
                         .as_mut()
                         .and_then(|c| c[local][k as usize].take())
@@ -297,14 +300,14 @@ fn render_with<R: Tally>(
                         DVec3::ZERO
                     }
                 });
-                samples.push(px);
+                ends.push(samples.len() as u32);
                 stats.push(rec.into_stats());
                 // Pixel by pixel, so the bar moves while a slow tile is still being traced.
                 if let Some(p) = progress {
                     p.inc(1);
                 }
             }
-            (samples, stats, nan, cut, tally)
+            ((samples, ends), stats, nan, cut, tally)
         })
         .collect();
     let trace_seconds = start.elapsed().as_secs_f64();
@@ -354,8 +357,12 @@ fn render_with<R: Tally>(
             st.bundles.add(&t.4);
         }
     }
-    let grid: Vec<&Vec<PixelSample>> = row_major_order(w, h)
-        .map(|(t, l)| &traced[t].0[l])
+    let grid: Vec<&[PixelSample]> = row_major_order(w, h)
+        .map(|(t, l)| {
+            let (samples, ends) = &traced[t].0;
+            let start = if l == 0 { 0 } else { ends[l - 1] as usize };
+            &samples[start..ends[l] as usize]
+        })
         .collect();
     let spp_map = Some(grid.iter().map(|s| s.len() as u32).collect());
     let filter = Filter::for_settings(settings);

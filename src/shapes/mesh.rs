@@ -178,13 +178,30 @@ impl Mesh {
         rays: &[Ray],
         active: u32,
         t_min: f64,
-        mut t_max: [f64; BUNDLE],
+        t_max: [f64; BUNDLE],
         work: &mut BundleWork,
         tests: &mut [u32; BUNDLE],
     ) -> [Option<LocalHit>; BUNDLE] {
+        self.intersect_bundle_seen(rays, active, t_min, t_max, work, tests, |_, _, _| {})
+    }
+    // ANCHOR_END: mesh_bundle
+
+    /// [`Mesh::intersect_bundle`], telling `seen` which children of each opened node the
+    /// bundle entered ([`Bvh::closest_bundle_seen`]; for the bundle figure).
+    #[allow(clippy::too_many_arguments)]
+    pub fn intersect_bundle_seen(
+        &self,
+        rays: &[Ray],
+        active: u32,
+        t_min: f64,
+        mut t_max: [f64; BUNDLE],
+        work: &mut BundleWork,
+        tests: &mut [u32; BUNDLE],
+        seen: impl FnMut(usize, usize, u32),
+    ) -> [Option<LocalHit>; BUNDLE] {
         let mut best: [Option<(usize, Barycentric)>; BUNDLE] = [None; BUNDLE];
         self.bvh
-            .closest_bundle(rays, active, t_min, &mut t_max, work, |k, mask, t_max| {
+            .closest_bundle_seen(rays, active, t_min, &mut t_max, work, |k, mask, t_max| {
                 let p = self.packed[k].prepared();
                 let mut m = mask;
                 while m != 0 {
@@ -199,14 +216,13 @@ impl Mesh {
                         }
                     }
                 }
-            });
+            }, seen);
         std::array::from_fn(|i| {
             best[i]
                 .as_ref()
                 .map(|(k, b)| self.local_hit(&rays[i], b, *k))
         })
     }
-    // ANCHOR_END: mesh_bundle
 
     /// Any face hit within [t_min, t_max] (shadow rays): the first one found, not the
     /// closest. Active observers (explain) get the closest hit and its full working instead,

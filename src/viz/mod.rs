@@ -11,6 +11,7 @@ pub mod intersect;
 pub mod labels;
 pub mod samples;
 mod section;
+pub mod bundle;
 pub mod slice;
 pub mod solids;
 pub mod steps;

@@ -94,3 +94,25 @@ fn stats_count_bundles_and_rays_alike() {
     // Opened once per bundle, a node serves several rays: fewer openings than ray visits.
     assert!(bundle.bundles.opened < bundle.nodes);
 }
+
+#[test]
+fn bundle_diagram_is_drawn_for_a_mesh_and_refused_without_one() {
+    let out = tmp("bundle-diagram.png");
+    let teapot = path("scenes/teapot.json");
+    let o = rtlab(&[
+        "explain", teapot.to_str().unwrap(), "--pixel", "22,17", "--width", "48", "--height",
+        "36", "--max-depth", "0", "--bundle-diagram", out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let img = image::open(&out).unwrap().to_rgb8();
+    assert!(img.width() > 400 && img.height() > 300);
+    let spheres = path("scenes/spheres.json");
+    let bad = tmp("no-mesh.png");
+    let o = rtlab(&[
+        "explain", spheres.to_str().unwrap(), "--pixel", "1,1", "--bundle-diagram",
+        bad.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("--bundle-diagram") && stderr(&o).contains("mesh"));
+    assert!(!bad.exists());
+}
