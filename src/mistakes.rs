@@ -212,7 +212,9 @@ impl Mistakes {
     /// `object-space-t`, `cone-normal`): the BVH and camera-ray bundles cannot be trusted
     /// under it, so rays take the lecture's loop over every object.
     pub fn changes_hits(self) -> bool {
-        self.has(Mistake::CapRadius) || self.has(Mistake::ObjectSpaceT) || self.has(Mistake::ConeNormal)
+        self.has(Mistake::CapRadius)
+            || self.has(Mistake::ObjectSpaceT)
+            || self.has(Mistake::ConeNormal)
     }
 
     /// The set with `m` added.

@@ -237,7 +237,11 @@ impl Accel {
         t_min: f64,
         cost: &mut BundleCost,
     ) -> [Option<(usize, LocalHit)>; BUNDLE] {
-        let all = if rays.len() >= 32 { u32::MAX } else { (1u32 << rays.len()) - 1 };
+        let all = if rays.len() >= 32 {
+            u32::MAX
+        } else {
+            (1u32 << rays.len()) - 1
+        };
         let mut best: [Option<(usize, LocalHit)>; BUNDLE] = [None; BUNDLE];
         let mut t_max = [f64::INFINITY; BUNDLE];
         for &i in &self.unbounded {
@@ -368,7 +372,8 @@ fn test_object_bundle(
     let hits: [Option<LocalHit>; BUNDLE] = match &object.shape {
         crate::shapes::Shape::Mesh(m) => {
             let mut work = BundleWork::default();
-            let h = m.intersect_bundle(&local[..n], mask, t_min, *t_max, &mut work, &mut cost.tests);
+            let h =
+                m.intersect_bundle(&local[..n], mask, t_min, *t_max, &mut work, &mut cost.tests);
             cost.opened += work.opened;
             for (c, w) in cost.nodes.iter_mut().zip(work.ray_nodes) {
                 *c += w;

@@ -120,16 +120,20 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
         }
     }
     // `--mistake`: the pixel again without the mistakes, and what differs.
-    let diffs = super::explain_mistakes::differences(&scene, x, y, args.sample, &e);
+    if args.format == "json" {
+        return super::emit(
+            out,
+            &crate::report::mistakes::to_json(&scene, x, y, args.sample, &e),
+        );
+    }
+    let diffs = crate::report::mistakes::differences(&scene, x, y, args.sample, &e);
     let text = match (args.format.as_str(), &diffs) {
-        ("json", Some(d)) => serde_json::to_string_pretty(&d.annotate(&e)).expect("serialisable") + "\n",
         ("yaml", Some(d)) => serde_norway::to_string(&d.annotate(&e)).expect("serialisable"),
-        ("json", None) => serde_json::to_string_pretty(&e).expect("serialisable") + "\n",
         ("yaml", None) => serde_norway::to_string(&e).expect("serialisable"),
         (_, d) => {
-            crate::cli::explain_text::text(&scene, &e) + &d.as_ref().map_or(String::new(), |d| d.text())
+            crate::cli::explain_text::text(&scene, &e)
+                + &d.as_ref().map_or(String::new(), |d| d.text())
         }
     };
     super::emit(out, &text)
 }
-

@@ -99,8 +99,7 @@ pub fn build_figure(fig: &Figure, out_path: &Path) -> Result<()> {
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
     }
     let mut buf: Vec<u8> = Vec::new();
-    super::run(cli, &mut buf)
-        .map_err(|e| Error::Other(format!("figure {}: {e}", fig.name)))?;
+    super::run(cli, &mut buf).map_err(|e| Error::Other(format!("figure {}: {e}", fig.name)))?;
     if captures {
         crate::output::write_atomic(out_path, &buf)?;
     }

@@ -16,7 +16,12 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
         "text" => {
             let mut t = String::new();
             for m in Mistake::ALL {
-                t += &format!("{}\n    {}\n    breaks: {}\n", m.name(), m.does(), m.breaks());
+                t += &format!(
+                    "{}\n    {}\n    breaks: {}\n",
+                    m.name(),
+                    m.does(),
+                    m.breaks()
+                );
             }
             t
         }

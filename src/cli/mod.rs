@@ -5,7 +5,6 @@ pub mod compare;
 pub mod convert;
 pub mod diff;
 pub mod explain;
-pub mod explain_mistakes;
 pub mod explain_text;
 pub mod intersect;
 pub mod intersect_solids;
@@ -371,8 +370,8 @@ impl RenderArgs {
     pub fn mistake_set(&self) -> Result<crate::mistakes::Mistakes> {
         let mut set = crate::mistakes::Mistakes::NONE;
         for list in &self.mistakes {
-            let more =
-                crate::mistakes::Mistake::parse_list(list).map_err(|m| Error::arg("--mistake", m))?;
+            let more = crate::mistakes::Mistake::parse_list(list)
+                .map_err(|m| Error::arg("--mistake", m))?;
             set = set.iter().chain(more.iter()).collect();
         }
         Ok(set)
@@ -421,14 +420,22 @@ impl RenderArgs {
         set(&mut r.reflections, self.reflections, self.no_reflections);
         set(&mut r.refractions, self.refractions, self.no_refractions);
         set(&mut r.textures, self.textures, self.no_textures);
-        set(&mut r.depth_of_field, self.depth_of_field, self.no_depth_of_field);
+        set(
+            &mut r.depth_of_field,
+            self.depth_of_field,
+            self.no_depth_of_field,
+        );
         if let Some(f) = &self.texture_filter {
             r.texture_filter = TextureFilter::parse(f).expect("checked");
         }
         if let Some(t) = &self.traversal {
             r.traversal = Traversal::parse(t).expect("checked");
         }
-        r.mistakes = r.mistakes.iter().chain(self.mistake_set()?.iter()).collect();
+        r.mistakes = r
+            .mistakes
+            .iter()
+            .chain(self.mistake_set()?.iter())
+            .collect();
         let (w, h) = (
             self.width.unwrap_or(scene.camera.width),
             self.height.unwrap_or(scene.camera.height),

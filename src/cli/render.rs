@@ -1,11 +1,11 @@
 //! `rtlab render`: the image.
 
 use super::{default_output, RenderArgs};
+use crate::accel::{Traversal, BUNDLE};
 use crate::error::{Error, Result};
 use crate::output::{check_png, write_png};
 use crate::sampling::aov::{render_aov, Aov};
 use crate::sampling::progressive::{describe, pass_settings, progressive, Pass};
-use crate::accel::{Traversal, BUNDLE};
 use crate::sampling::render;
 use serde_json::json;
 use std::io::IsTerminal;
@@ -225,7 +225,13 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
     let mut reached = args.passes.map(|k| (k, scene.render.spp));
     let result = if let Some(budget) = args.time_budget {
         let pass = with_threads(args.threads, || {
-            budgeted(&scene, budget, args.passes, stats_format.is_some(), args.quiet)
+            budgeted(
+                &scene,
+                budget,
+                args.passes,
+                stats_format.is_some(),
+                args.quiet,
+            )
         })?;
         crate::interrupt::check()?;
         let pass = pass.ok_or_else(|| Error::Other("no pass was completed".into()))?;

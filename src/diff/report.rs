@@ -29,7 +29,9 @@ fn round(x: f64, digits: i32) -> f64 {
 pub fn diagnosis(scene: &Scene, r: &Report) -> Vec<(Vec<&'static str>, Vec<usize>, usize)> {
     let mut out: Vec<(Vec<&'static str>, Vec<usize>, usize)> = Vec::new();
     for (i, g) in r.regions.iter().enumerate() {
-        let Some(best) = g.mistakes.first() else { continue };
+        let Some(best) = g.mistakes.first() else {
+            continue;
+        };
         let names = super::suspects::added(scene, best);
         match out.iter_mut().find(|d| d.0 == names) {
             Some(d) => {
@@ -140,7 +142,9 @@ pub fn difference_words(d: [f64; 3]) -> String {
 pub fn to_text(scene: &Scene, r: &Report, max_percent: f64) -> String {
     let m = &r.metrics;
     let total = r.width as usize * r.height as usize;
-    let psnr = m.psnr.map_or("identical".into(), |p| format!("PSNR {p:.1} dB"));
+    let psnr = m
+        .psnr
+        .map_or("identical".into(), |p| format!("PSNR {p:.1} dB"));
     let mut s = format!(
         "{}: {} of {} pixels ({:.2} %) differ by more than {} levels (largest difference {}, {psnr}); {} allows {max_percent} %\n",
         if r.same { "same" } else { "different" },

@@ -34,12 +34,18 @@ pub fn search(
     scored: &[(u32, u32)],
 ) -> Vec<MistakeFit> {
     let base = scene.render.mistakes;
-    let get = |img: &RgbImage| -> Vec<[u8; 3]> { scored.iter().map(|&(x, y)| img.get_pixel(x, y).0).collect() };
+    let get = |img: &RgbImage| -> Vec<[u8; 3]> {
+        scored.iter().map(|&(x, y)| img.get_pixel(x, y).0).collect()
+    };
     let (want, was) = (get(yours), get(expected));
     let sq = |a: &[[u8; 3]], b: &[[u8; 3]]| -> f64 {
         a.iter()
             .zip(b)
-            .map(|(p, q)| (0..3).map(|c| (p[c] as f64 - q[c] as f64).powi(2)).sum::<f64>())
+            .map(|(p, q)| {
+                (0..3)
+                    .map(|c| (p[c] as f64 - q[c] as f64).powi(2))
+                    .sum::<f64>()
+            })
             .sum()
     };
     let total = sq(&want, &was);
@@ -57,18 +63,32 @@ pub fn search(
         .filter(|m| !base.has(**m))
         .map(|&m| {
             let set = base.iter().chain([m]).collect();
-            MistakeFit { mistakes: set, explained: score(set) }
+            MistakeFit {
+                mistakes: set,
+                explained: score(set),
+            }
         })
         .collect();
     singles.sort_by(|a, b| b.explained.total_cmp(&a.explained));
-    let top: Vec<&MistakeFit> = singles.iter().filter(|f| f.explained > 0.0).take(PAIRED).collect();
+    let top: Vec<&MistakeFit> = singles
+        .iter()
+        .filter(|f| f.explained > 0.0)
+        .take(PAIRED)
+        .collect();
     let mut all = singles.clone();
     for i in 0..top.len() {
         for j in i + 1..top.len() {
-            let set: Mistakes = top[i].mistakes.iter().chain(top[j].mistakes.iter()).collect();
+            let set: Mistakes = top[i]
+                .mistakes
+                .iter()
+                .chain(top[j].mistakes.iter())
+                .collect();
             let explained = score(set);
             if explained >= top[i].explained.max(top[j].explained) + PAIR_GAIN {
-                all.push(MistakeFit { mistakes: set, explained });
+                all.push(MistakeFit {
+                    mistakes: set,
+                    explained,
+                });
             }
         }
     }

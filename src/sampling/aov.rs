@@ -7,11 +7,13 @@
 //! Adding an AOV: one variant, one row in [`Aov::ALL`], one arm in [`Aov::display`].
 
 use super::{pixel_samples, render_reconstruct, Filter};
+use crate::accel::Traversal;
 use crate::math::Ray;
 use crate::scene::{Encoding, RenderSettings, Scene};
 use crate::shading::{LightTerm, Shading};
-use crate::accel::Traversal;
-use crate::trace::{camera_ray, trace_camera, CameraRay, CountObserver, End, HitInfo, RayKind, Recorder};
+use crate::trace::{
+    camera_ray, trace_camera, CameraRay, CountObserver, End, HitInfo, RayKind, Recorder,
+};
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
@@ -342,30 +344,28 @@ pub fn trace_aov_samples(scene: &Scene, settings: &RenderSettings) -> AovSamples
                 .map(|x| pixel_samples(settings.sampler, settings.spp, settings.seed, x, y))
                 .collect();
             // Bundles: runs of 16 neighbours in the row, sample index by sample index.
-            let mut cameras: Option<Vec<Vec<Option<CameraRay>>>> =
-                (settings.traversal == Traversal::Bundle && !settings.mistakes.changes_hits()).then(|| {
-                    let most = films.iter().map(Vec::len).max().unwrap_or(0);
-                    let samples: Vec<(u32, u32, u32, DVec2)> = (0..most)
-                        .flat_map(|k| {
-                            let films = &films;
-                            (0..w).filter_map(move |x| {
-                                films[x as usize].get(k).map(|&f| (x, y, k as u32, f))
-                            })
+            let mut cameras: Option<Vec<Vec<Option<CameraRay>>>> = (settings.traversal
+                == Traversal::Bundle
+                && !settings.mistakes.changes_hits())
+            .then(|| {
+                let most = films.iter().map(Vec::len).max().unwrap_or(0);
+                let samples: Vec<(u32, u32, u32, DVec2)> = (0..most)
+                    .flat_map(|k| {
+                        let films = &films;
+                        (0..w).filter_map(move |x| {
+                            films[x as usize].get(k).map(|&f| (x, y, k as u32, f))
                         })
-                        .collect();
-                    let mut grid: Vec<Vec<Option<CameraRay>>> =
-                        films.iter().map(|f| vec![None; f.len()]).collect();
-                    let rays = super::bundles::camera_rays(
-                        scene,
-                        settings,
-                        &samples,
-                        &mut Default::default(),
-                    );
-                    for (s, cam) in samples.iter().zip(rays) {
-                        grid[s.0 as usize][s.2 as usize] = Some(cam);
-                    }
-                    grid
-                });
+                    })
+                    .collect();
+                let mut grid: Vec<Vec<Option<CameraRay>>> =
+                    films.iter().map(|f| vec![None; f.len()]).collect();
+                let rays =
+                    super::bundles::camera_rays(scene, settings, &samples, &mut Default::default());
+                for (s, cam) in samples.iter().zip(rays) {
+                    grid[s.0 as usize][s.2 as usize] = Some(cam);
+                }
+                grid
+            });
             (0..w)
                 .map(|x| {
                     films[x as usize]
@@ -376,7 +376,9 @@ pub fn trace_aov_samples(scene: &Scene, settings: &RenderSettings) -> AovSamples
                             let camera = cameras
                                 .as_mut()
                                 .and_then(|c| c[x as usize][k].take())
-                                .unwrap_or_else(|| camera_ray(scene, settings, x, y, k as u32, film));
+                                .unwrap_or_else(|| {
+                                    camera_ray(scene, settings, x, y, k as u32, film)
+                                });
                             trace_camera(scene, settings, camera, &mut rec);
                             (film, rec.take())
                         })

@@ -1,9 +1,9 @@
+use super::bundles::{tile_camera_rays, BundleTally};
 use super::sampler::sample_pixel_into;
 use super::{Filter, PixelSample};
+use crate::accel::Traversal;
 use crate::mistakes::{Mistake, Mistakes};
 use crate::scene::{Encoding, RenderSettings, Scene};
-use super::bundles::{tile_camera_rays, BundleTally};
-use crate::accel::Traversal;
 use crate::trace::{camera_ray, trace_camera, Counter, NoRecorder, RayCounts, Recorder};
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;

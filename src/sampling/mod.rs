@@ -13,4 +13,6 @@ pub use film::{
     Image, RenderOutput, RenderStats,
 };
 pub use filter::Filter;
-pub use sampler::{pixel_samples, planned_films, sample_pixel, traces_samples, validate_spp, PixelSample};
+pub use sampler::{
+    pixel_samples, planned_films, sample_pixel, traces_samples, validate_spp, PixelSample,
+};

@@ -140,10 +140,16 @@ mod tests {
     fn passes_preview_then_the_scene_then_four_times_the_samples() {
         let b = base(SamplerKind::Jittered, 4);
         let p1 = pass_settings(&b, 64, 48, 1).unwrap();
-        assert_eq!((p1.subsample, p1.spp, p1.sampler), (4, 4, SamplerKind::Jittered));
+        assert_eq!(
+            (p1.subsample, p1.spp, p1.sampler),
+            (4, 4, SamplerKind::Jittered)
+        );
         assert_eq!(pass_settings(&b, 64, 48, 2).unwrap(), b);
         let p4 = pass_settings(&b, 64, 48, 4).unwrap();
-        assert_eq!((p4.subsample, p4.spp, p4.sampler), (1, 64, SamplerKind::Jittered));
+        assert_eq!(
+            (p4.subsample, p4.spp, p4.sampler),
+            (1, 64, SamplerKind::Jittered)
+        );
         // The centre sample is the 1×1 grid: later passes refine it as a grid.
         let c = pass_settings(&base(SamplerKind::Center, 1), 64, 48, 3).unwrap();
         assert_eq!((c.spp, c.sampler), (4, SamplerKind::Grid));

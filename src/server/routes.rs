@@ -197,7 +197,9 @@ async fn explain(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Re
     run(state, move |st| {
         let s = st.scene(&q.words)?;
         let (x, y) = q.pixel(s.camera.width, s.camera.height)?;
-        json(&crate::report::explain::explain(&s, x, y))
+        let e = crate::report::explain::explain(&s, x, y);
+        let text = crate::report::mistakes::to_json(&s, x, y, None, &e);
+        Ok(("application/json", text.into_bytes()))
     })
     .await
 }

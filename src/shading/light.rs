@@ -215,7 +215,10 @@ mod tests {
         assert_eq!(l.f_att(0.0), 1.0);
         let (a, p) = (30f64.to_radians(), 10f64.to_radians());
         assert_eq!(spot_falloff_as(0.0, a, p, Mistakes::NONE), 1.0);
-        assert_eq!(spot_falloff_as(31f64.to_radians(), a, p, Mistakes::NONE), 0.0);
+        assert_eq!(
+            spot_falloff_as(31f64.to_radians(), a, p, Mistakes::NONE),
+            0.0
+        );
         assert!((spot_falloff_as(25f64.to_radians(), a, p, Mistakes::NONE) - 0.5).abs() < 1e-12);
     }
 }

@@ -37,9 +37,7 @@ impl Cone {
         mistakes: Mistakes,
         obs: &mut O,
     ) -> Option<LocalHit> {
-        let c = Candidate::nearest(t_max, |f| {
-            self.candidates_as(ray, t_min, mistakes, obs, f)
-        })?;
+        let c = Candidate::nearest(t_max, |f| self.candidates_as(ray, t_min, mistakes, obs, f))?;
         Some(self.local_hit_as(ray, c.t, c.surface, mistakes))
     }
 

@@ -38,9 +38,7 @@ impl Cylinder {
         mistakes: Mistakes,
         obs: &mut O,
     ) -> Option<LocalHit> {
-        let c = Candidate::nearest(t_max, |f| {
-            self.candidates_as(ray, t_min, mistakes, obs, f)
-        })?;
+        let c = Candidate::nearest(t_max, |f| self.candidates_as(ray, t_min, mistakes, obs, f))?;
         Some(self.local_hit(c.point, c.t, c.surface))
     }
 

@@ -200,8 +200,13 @@ impl Mesh {
         seen: impl FnMut(usize, usize, u32),
     ) -> [Option<LocalHit>; BUNDLE] {
         let mut best: [Option<(usize, Barycentric)>; BUNDLE] = [None; BUNDLE];
-        self.bvh
-            .closest_bundle_seen(rays, active, t_min, &mut t_max, work, |k, mask, t_max| {
+        self.bvh.closest_bundle_seen(
+            rays,
+            active,
+            t_min,
+            &mut t_max,
+            work,
+            |k, mask, t_max| {
                 let p = self.packed[k].prepared();
                 let mut m = mask;
                 while m != 0 {
@@ -216,7 +221,9 @@ impl Mesh {
                         }
                     }
                 }
-            }, seen);
+            },
+            seen,
+        );
         std::array::from_fn(|i| {
             best[i]
                 .as_ref()

@@ -221,7 +221,11 @@ impl<'a> Tracer<'a> {
         let m = self.scene.material_of(hit.object);
         let mut diffuse = g.kd * m.diffuse;
         if let (Some(tex), true) = (&m.texture, self.settings.textures) {
-            let texel = tex.lookup_as(hit.local.uv, self.settings.texture_filter, self.settings.mistakes);
+            let texel = tex.lookup_as(
+                hit.local.uv,
+                self.settings.texture_filter,
+                self.settings.mistakes,
+            );
             // `texture-times-diffuse`: the texel multiplied by kd·Od in its share of the blend.
             let texel = if self.settings.mistakes.has(Mistake::TextureTimesDiffuse) {
                 texel * diffuse
@@ -348,8 +352,14 @@ impl<'a> Tracer<'a> {
                     && (ignored
                         || !shadows
                         || self.shadow_ray(origin, ls.l, ls.distance, depth, rec));
-                let (diffuse, specular, n_dot_l, r_dot_v, pow) =
-                    s.light_as(light.color * ls.spot * share, ls.l, n, v, ls.f_att, mistakes);
+                let (diffuse, specular, n_dot_l, r_dot_v, pow) = s.light_as(
+                    light.color * ls.spot * share,
+                    ls.l,
+                    n,
+                    v,
+                    ls.f_att,
+                    mistakes,
+                );
                 term.n_dot_l += n_dot_l * share;
                 term.r_dot_v += r_dot_v * share;
                 term.r_dot_v_pow += pow * share;
@@ -431,7 +441,11 @@ impl<'a> Tracer<'a> {
         if spawn(transmit, &mut end) {
             let mut c = DVec3::ZERO;
             if self.settings.course_refraction && m.refract {
-                let mut st = CourseStep { depth, weight, end: &mut end };
+                let mut st = CourseStep {
+                    depth,
+                    weight,
+                    end: &mut end,
+                };
                 c = self.course_refraction(d, n, entering, hit, transmit, &mut st, rng, rec);
             } else if !m.refract {
                 let t = Ray::new(below, d);

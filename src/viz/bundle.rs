@@ -87,7 +87,10 @@ pub fn draw(scene: &Scene, x: u32, y: u32) -> Result<Canvas, String> {
     let draw_box = |c: &mut Canvas, bx: &Aabb, opened: bool, d: usize| {
         let a = map(bx.min);
         let z = map(bx.max);
-        let (min, size) = ((a.0.min(z.0), a.1.min(z.1)), ((z.0 - a.0).abs(), (z.1 - a.1).abs()));
+        let (min, size) = (
+            (a.0.min(z.0), a.1.min(z.1)),
+            ((z.0 - a.0).abs(), (z.1 - a.1).abs()),
+        );
         if opened {
             let fill = style::rgba(90, 140, 200, 22 + 10 * d as u8);
             c.rect(min, size, Some((opened_color, 1.6)), Some(fill));
@@ -127,7 +130,10 @@ pub fn draw(scene: &Scene, x: u32, y: u32) -> Result<Canvas, String> {
         // Enter the drawn square (the view's x–z extent) by a 2D slab test.
         let half = span / 2.0 * 1.05;
         let (mut t_start, mut t_stop) = (0.0f64, f64::INFINITY);
-        for (o, d, c) in [(r.origin.x, r.dir.x, centre.x), (r.origin.z, r.dir.z, centre.y)] {
+        for (o, d, c) in [
+            (r.origin.x, r.dir.x, centre.x),
+            (r.origin.z, r.dir.z, centre.y),
+        ] {
             let (a, z) = ((c - half - o) / d, (c + half - o) / d);
             t_start = t_start.max(a.min(z));
             t_stop = t_stop.min(a.max(z));
@@ -138,7 +144,12 @@ pub fn draw(scene: &Scene, x: u32, y: u32) -> Result<Canvas, String> {
         }
         c.line(map(r.at(t_start)), map(r.at(t_end)), ray_color, 1.0, false);
         if let Some(hit) = hits[i].filter(|h| h.t <= t_stop) {
-            c.circle(map(r.at(hit.t)), 3.0, Some((ray_color, 1.0)), Some(ray_color));
+            c.circle(
+                map(r.at(hit.t)),
+                3.0,
+                Some((ray_color, 1.0)),
+                Some(ray_color),
+            );
         }
     }
     // Title and legend.
@@ -164,7 +175,12 @@ pub fn draw(scene: &Scene, x: u32, y: u32) -> Result<Canvas, String> {
         Anchor::Left,
     );
     let (lx, ly) = (side, 70.0);
-    c.rect((lx, ly - 6.0), (22.0, 12.0), Some((opened_color, 1.6)), Some(style::rgba(90, 140, 200, 40)));
+    c.rect(
+        (lx, ly - 6.0),
+        (22.0, 12.0),
+        Some((opened_color, 1.6)),
+        Some(style::rgba(90, 140, 200, 40)),
+    );
     c.text(
         (lx + 30.0, ly),
         &format!("opened: some ray of the bundle enters it ({opened})"),

@@ -2,6 +2,7 @@
 //! every machine draws the same pixels. Every figure also keeps a display list (what was
 //! drawn, in order, with rounded coordinates) for snapshot tests.
 
+pub mod bundle;
 pub mod canvas;
 pub mod compare;
 pub mod diff;
@@ -11,7 +12,6 @@ pub mod intersect;
 pub mod labels;
 pub mod samples;
 mod section;
-pub mod bundle;
 pub mod slice;
 pub mod solids;
 pub mod steps;

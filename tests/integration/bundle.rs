@@ -35,7 +35,11 @@ fn every_scene_same_image_single_or_bundle() {
 
 #[test]
 fn every_sampler_same_image_single_or_bundle() {
-    for file in ["scenes/whitted.json", "scenes/teapot.json", "scenes/triangles.json"] {
+    for file in [
+        "scenes/whitted.json",
+        "scenes/teapot.json",
+        "scenes/triangles.json",
+    ] {
         let mut scene = scene(file);
         scene.camera.update_size(37, 29);
         for (kind, spp) in [
@@ -100,8 +104,18 @@ fn bundle_diagram_is_drawn_for_a_mesh_and_refused_without_one() {
     let out = tmp("bundle-diagram.png");
     let teapot = path("scenes/teapot.json");
     let o = rtlab(&[
-        "explain", teapot.to_str().unwrap(), "--pixel", "22,17", "--width", "48", "--height",
-        "36", "--max-depth", "0", "--bundle-diagram", out.to_str().unwrap(),
+        "explain",
+        teapot.to_str().unwrap(),
+        "--pixel",
+        "22,17",
+        "--width",
+        "48",
+        "--height",
+        "36",
+        "--max-depth",
+        "0",
+        "--bundle-diagram",
+        out.to_str().unwrap(),
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let img = image::open(&out).unwrap().to_rgb8();
@@ -109,7 +123,11 @@ fn bundle_diagram_is_drawn_for_a_mesh_and_refused_without_one() {
     let spheres = path("scenes/spheres.json");
     let bad = tmp("no-mesh.png");
     let o = rtlab(&[
-        "explain", spheres.to_str().unwrap(), "--pixel", "1,1", "--bundle-diagram",
+        "explain",
+        spheres.to_str().unwrap(),
+        "--pixel",
+        "1,1",
+        "--bundle-diagram",
         bad.to_str().unwrap(),
     ]);
     assert_eq!(o.status.code(), Some(2));

@@ -344,7 +344,9 @@ fn template_blow_up_is_refused_quickly_with_its_path() {
     let each = rtlab::scene::cs1230::bytes_per_primitive();
     assert!(
         e.contains("expands to")
-            && e.contains(&format!("GiB (about {each} bytes each); the limit is 3.0 GiB, about {max} primitives")),
+            && e.contains(&format!(
+                "GiB (about {each} bytes each); the limit is 3.0 GiB, about {max} primitives"
+            )),
         "{e}"
     );
     // The culprit is the deepest group that alone is too large: inside t(k), the first

@@ -2,18 +2,18 @@
 
 mod accel;
 mod book;
-mod course;
-mod bundle;
 mod browser;
+mod bundle;
 mod common;
+mod course;
 mod cs1230;
 mod csg;
 mod errors;
 mod explain;
 mod intersect;
-mod progressive;
 mod limits;
 mod mistakes;
+mod progressive;
 mod props;
 mod render;
 mod robust;

@@ -91,7 +91,15 @@ fn darker_or_equal(a: DVec3, b: DVec3) -> bool {
 
 #[test]
 fn every_mistake_changes_its_scene_and_the_empty_set_changes_nothing() {
-    let scenes = ["lit", "mirror", "occlusion", "textured", "solids", "spot", "glass"];
+    let scenes = [
+        "lit",
+        "mirror",
+        "occlusion",
+        "textured",
+        "solids",
+        "spot",
+        "glass",
+    ];
     let loaded: Vec<Scene> = scenes.iter().map(|s| load(s)).collect();
     // The scene settings that show each mistake (the Intersect ones need the stage).
     for &m in Mistake::ALL {
@@ -117,7 +125,12 @@ fn every_mistake_changes_its_scene_and_the_empty_set_changes_nothing() {
     let scene = load("lit");
     let mut none = scene.render.clone();
     none.mistakes = Mistakes::NONE;
-    assert_eq!(none, RenderSettings { ..scene.render.clone() });
+    assert_eq!(
+        none,
+        RenderSettings {
+            ..scene.render.clone()
+        }
+    );
     assert_eq!(linear(&scene, &none), linear(&scene, &scene.render));
 }
 
@@ -129,11 +142,16 @@ fn normal_mistakes_change_only_the_scaled_objects() {
     // ball: uniformly scaled by 0.8, so (M⁻¹)ᵀn is 1.25 n: unnormalised, it is lit brighter.
     let bad = linear(&scene, &under(&scene, Mistake::NormalNotNormalized));
     let c = changed(&good, &bad);
-    assert_only("normal-not-normalized", &c, 200, |i| on(&hit[i], &["ball", "egg"]));
+    assert_only("normal-not-normalized", &c, 200, |i| {
+        on(&hit[i], &["ball", "egg"])
+    });
     assert!(c.iter().any(|&i| on(&hit[i], &["ball"])) && c.iter().any(|&i| on(&hit[i], &["egg"])));
     for &i in &c {
         if on(&hit[i], &["ball"]) {
-            assert!(darker_or_equal(good[i], bad[i]), "the unnormalised 1.25·n brightens");
+            assert!(
+                darker_or_equal(good[i], bad[i]),
+                "the unnormalised 1.25·n brightens"
+            );
         }
     }
     // The object's matrix has the same direction as its inverse transpose for a uniform
@@ -151,7 +169,10 @@ fn acne_darkens_speckles_of_lit_surfaces_and_mirrors() {
     let c = changed(&good, &bad);
     // Shadow rays that hit their own surface: some lit pixels fall into shadow, none brightens.
     assert_only("shadow-acne", &c, 100, |i| darker_or_equal(bad[i], good[i]));
-    assert!(c.len() < good.len() * 9 / 10, "acne is speckles, not every pixel");
+    assert!(
+        c.len() < good.len() * 9 / 10,
+        "acne is speckles, not every pixel"
+    );
 
     let scene = load("mirror");
     let good = linear(&scene, &scene.render);
@@ -174,12 +195,16 @@ fn far_side_lighting_mistakes() {
     let bad = linear(&scene, &s);
     let c = changed(&good, &bad);
     // A negative n·l subtracts light: pixels turned away from a light only get darker.
-    assert_only("n-dot-l-unclamped", &c, 100, |i| darker_or_equal(bad[i], good[i]));
+    assert_only("n-dot-l-unclamped", &c, 100, |i| {
+        darker_or_equal(bad[i], good[i])
+    });
 
     s.mistakes = Mistakes::one(Mistake::SpecularBehindLight);
     let bad = linear(&scene, &s);
     let c = changed(&good, &bad);
-    assert_only("specular-behind-light", &c, 20, |i| darker_or_equal(good[i], bad[i]));
+    assert_only("specular-behind-light", &c, 20, |i| {
+        darker_or_equal(good[i], bad[i])
+    });
     // Only the specular term: without it the images agree.
     let mut no_spec = base.clone();
     no_spec.specular = false;
@@ -193,7 +218,11 @@ fn specular_mistakes_change_only_the_specular_term() {
     let scene = load("lit");
     let good = linear(&scene, &scene.render);
     let hit = hits(&scene, Mistakes::NONE);
-    for m in [Mistake::ReflectSign, Mistake::ShininessZero, Mistake::BlinnPhong] {
+    for m in [
+        Mistake::ReflectSign,
+        Mistake::ShininessZero,
+        Mistake::BlinnPhong,
+    ] {
         let bad = linear(&scene, &under(&scene, m));
         let c = changed(&good, &bad);
         let mut no_spec = scene.render.clone();
@@ -235,7 +264,11 @@ fn light_mistakes_equal_the_scene_they_pretend_it_is() {
     assert_eq!(bad, expect, "directional-not-negated");
     // no-attenuation: as if every light had attenuation (1, 0, 0).
     let bad = linear(&base, &under(&base, Mistake::NoAttenuation));
-    let expect = render_as(&|s| s.lights.iter_mut().for_each(|l| l.attenuation = [1.0, 0.0, 0.0]));
+    let expect = render_as(&|s| {
+        s.lights
+            .iter_mut()
+            .for_each(|l| l.attenuation = [1.0, 0.0, 0.0])
+    });
     assert_eq!(bad, expect, "no-attenuation");
     assert_ne!(bad, linear(&base, &base.render));
     // ambient-times-light: as if the ambient light were La times the sum of the lights.
@@ -262,7 +295,9 @@ fn unclamped_attenuation_only_brightens_and_only_where_it_exceeds_one() {
     let good = linear(&scene, &scene.render);
     let bad = linear(&scene, &under(&scene, Mistake::AttenuationUnclamped));
     let c = changed(&good, &bad);
-    assert_only("attenuation-unclamped", &c, 100, |i| darker_or_equal(good[i], bad[i]));
+    assert_only("attenuation-unclamped", &c, 100, |i| {
+        darker_or_equal(good[i], bad[i])
+    });
     // With c1 ≥ 1 the fraction never exceeds 1: nothing to clamp, nothing changes.
     let mut s = scene.clone();
     s.lights.iter_mut().for_each(|l| l.attenuation[0] = 1.0);
@@ -285,12 +320,18 @@ fn object_space_t_loses_scaled_objects_and_shadow_beyond_light_darkens() {
     assert_only("object-space-t", &c, 50, |i| on(&hit[i], &["small"]));
     let wrong = hits(&scene, m);
     for &i in &c {
-        assert!(on(&wrong[i], &["wall"]), "the wall behind wins, found {:?}", wrong[i]);
+        assert!(
+            on(&wrong[i], &["wall"]),
+            "the wall behind wins, found {:?}",
+            wrong[i]
+        );
     }
 
     let bad = linear(&scene, &under(&scene, Mistake::ShadowBeyondLight));
     let c = changed(&good, &bad);
-    assert_only("shadow-beyond-light", &c, 200, |i| darker_or_equal(bad[i], good[i]));
+    assert_only("shadow-beyond-light", &c, 200, |i| {
+        darker_or_equal(bad[i], good[i])
+    });
 }
 
 #[test]
@@ -354,13 +395,16 @@ fn texture_flips_equal_a_flipped_texture() {
     ] {
         let bad = linear(&scene, &under(&scene, m));
         assert_only(m.name(), &changed(&good, &bad), 300, textured);
-        let flipped = retextured(&scene, |c, r, w, h| {
-            if flip {
-                (c, h - 1 - r)
-            } else {
-                (w - 1 - c, r)
-            }
-        });
+        let flipped = retextured(
+            &scene,
+            |c, r, w, h| {
+                if flip {
+                    (c, h - 1 - r)
+                } else {
+                    (w - 1 - c, r)
+                }
+            },
+        );
         let expect = linear(&flipped, &flipped.render);
         // Equal but where a pixel centre lies exactly on a texel boundary.
         let off = changed(&expect, &bad).len();
@@ -393,7 +437,11 @@ fn texture_off_by_one_reads_the_texel_half_a_texel_on() {
     });
     // Rounding instead of flooring is the right lookup half a texel further along u, and
     // half a texel down in v (rows run from the top); at u = 1 it wraps to the first column.
-    let m = scene.materials.iter().find_map(|m| m.texture.clone()).unwrap();
+    let m = scene
+        .materials
+        .iter()
+        .find_map(|m| m.texture.clone())
+        .unwrap();
     let TextureSource::Image { width, height, .. } = m.source else {
         panic!("an image texture")
     };
@@ -432,8 +480,14 @@ fn byte_mistakes() {
             mid_brightened += 1;
         }
     }
-    assert!(rounded_up > good.as_raw().len() / 4, "about half the bytes round up");
-    assert!(mid_brightened > 1000, "mid tones are lifted by 30 levels or more");
+    assert!(
+        rounded_up > good.as_raw().len() / 4,
+        "about half the bytes round up"
+    );
+    assert!(
+        mid_brightened > 1000,
+        "mid tones are lifted by 30 levels or more"
+    );
 }
 
 #[test]
@@ -496,17 +550,29 @@ fn width_angle_mistakes_squeeze_or_stretch_wide_images_only() {
     // fov-width-angle: θw = aspect·θh is wider than the true width angle, so objects narrow;
     // aspect-ignored: a square film on a wide image, so they widen. Rows stay.
     let (c, r) = extent(&scene, "ball", Mistakes::one(Mistake::FovWidthAngle));
-    assert!(c < cols && r == rows, "fov-width-angle: {c}×{r} against {cols}×{rows}");
+    assert!(
+        c < cols && r == rows,
+        "fov-width-angle: {c}×{r} against {cols}×{rows}"
+    );
     let (c, r) = extent(&scene, "ball", Mistakes::one(Mistake::AspectIgnored));
-    assert!(c > cols && r == rows, "aspect-ignored: {c}×{r} against {cols}×{rows}");
+    assert!(
+        c > cols && r == rows,
+        "aspect-ignored: {c}×{r} against {cols}×{rows}"
+    );
     for m in [Mistake::FovWidthAngle, Mistake::AspectIgnored] {
-        assert_ne!(linear(&scene, &scene.render), linear(&scene, &under(&scene, m)));
+        assert_ne!(
+            linear(&scene, &scene.render),
+            linear(&scene, &under(&scene, m))
+        );
     }
     // A square image has nothing to get wrong.
     scene.camera.update_size(100, 100);
     let good = linear(&scene, &scene.render);
     for m in [Mistake::FovWidthAngle, Mistake::AspectIgnored] {
-        assert!(changed(&good, &linear(&scene, &under(&scene, m))).is_empty(), "{m}");
+        assert!(
+            changed(&good, &linear(&scene, &under(&scene, m))).is_empty(),
+            "{m}"
+        );
     }
 }
 
@@ -522,7 +588,8 @@ fn cap_radius_changes_only_caps_and_cone_normal_only_the_cone_body() {
     let bad = linear(&scene, &s);
     let wrong = hits(&scene, m);
     let right = hits(&scene, Mistakes::NONE);
-    let cap = |h: &Option<(String, &'static str)>| h.as_ref().is_some_and(|(_, s)| s.ends_with("cap"));
+    let cap =
+        |h: &Option<(String, &'static str)>| h.as_ref().is_some_and(|(_, s)| s.ends_with("cap"));
     assert_only("cap-radius", &changed(&good, &bad), 50, |i| {
         cap(&wrong[i]) && !cap(&right[i]) || cap(&wrong[i]) && right[i] == wrong[i]
     });
@@ -570,7 +637,11 @@ fn spot_mistakes_change_the_penumbra_and_the_cone() {
             );
             angles.push(hit.map(|(_, l)| {
                 let p = ray.at(l.t);
-                (p - position).normalize().dot(direction).clamp(-1.0, 1.0).acos()
+                (p - position)
+                    .normalize()
+                    .dot(direction)
+                    .clamp(-1.0, 1.0)
+                    .acos()
             }));
         }
     }
@@ -616,7 +687,9 @@ fn intersect_stage_mistakes_light_what_the_stage_leaves_out() {
 fn mistakes_combine() {
     let scene = load("lit");
     let mut s = scene.render.clone();
-    s.mistakes = [Mistake::RoundBytes, Mistake::ImageFlipped].into_iter().collect();
+    s.mistakes = [Mistake::RoundBytes, Mistake::ImageFlipped]
+        .into_iter()
+        .collect();
     let both = bytes(&scene, &s);
     let flipped = bytes(&scene, &under(&scene, Mistake::ImageFlipped));
     let mut n = 0;
@@ -652,7 +725,9 @@ fn cli_mistake_flag_and_catalogue() {
     ]);
     assert_eq!(out.status.code(), Some(2));
     assert!(
-        stderr(&out).contains("argument --mistake: unknown mistake \"cap-raduis\" (did you mean \"cap-radius\"?"),
+        stderr(&out).contains(
+            "argument --mistake: unknown mistake \"cap-raduis\" (did you mean \"cap-radius\"?"
+        ),
         "{}",
         stderr(&out)
     );
@@ -685,7 +760,9 @@ fn cli_mistake_flag_and_catalogue() {
     assert!(out.status.success(), "{}", stderr(&out));
     let scene = load("lit");
     let mut s = scene.render.clone();
-    s.mistakes = [Mistake::RoundBytes, Mistake::ImageFlipped].into_iter().collect();
+    s.mistakes = [Mistake::RoundBytes, Mistake::ImageFlipped]
+        .into_iter()
+        .collect();
     let expect = bytes(&scene, &s);
     for p in [&a, &b] {
         assert_eq!(image::open(p).unwrap().to_rgb8(), expect);
@@ -703,9 +780,15 @@ fn explain_marks_what_the_mistake_changes() {
     let out = rtlab(&with);
     assert!(out.status.success(), "{}", stderr(&out));
     let text = String::from_utf8_lossy(&out.stdout);
-    assert!(text.contains("Where --mistake blinn-phong changes the numbers"), "{text}");
+    assert!(
+        text.contains("Where --mistake blinn-phong changes the numbers"),
+        "{text}"
+    );
     assert!(text.contains("light key › specular"), "{text}");
-    assert!(!text.contains("› diffuse"), "blinn-phong leaves diffuse alone: {text}");
+    assert!(
+        !text.contains("› diffuse"),
+        "blinn-phong leaves diffuse alone: {text}"
+    );
     with.extend(["--format", "json"]);
     let out = rtlab(&with);
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
@@ -764,7 +847,10 @@ fn steps_and_compare_take_the_mistake() {
         let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
         v["runs"][0]["rmse"].as_f64().unwrap()
     };
-    assert_ne!(run_compare(&[]), run_compare(&["--mistake", "pixel-corner"]));
+    assert_ne!(
+        run_compare(&[]),
+        run_compare(&["--mistake", "pixel-corner"])
+    );
 }
 
 #[test]
@@ -785,7 +871,9 @@ fn unnormalised_shadow_rays_count_blockers_out_to_the_distance_squared() {
     let good = linear(&scene, &scene.render);
     let bad = linear(&scene, &under(&scene, Mistake::ShadowRayUnnormalized));
     let c = changed(&good, &bad);
-    assert_only("shadow-ray-unnormalized", &c, 200, |i| darker_or_equal(bad[i], good[i]));
+    assert_only("shadow-ray-unnormalized", &c, 200, |i| {
+        darker_or_equal(bad[i], good[i])
+    });
     let beyond = linear(&scene, &under(&scene, Mistake::ShadowBeyondLight));
     for &i in &c {
         assert!(!differs(bad[i], beyond[i]) || darker_or_equal(beyond[i], bad[i]));
@@ -808,7 +896,10 @@ fn the_gallery_shows_every_mistake() {
     let chapter = std::fs::read_to_string(path("book/src/15-when-your-image-is-wrong.md")).unwrap();
     let lesson = std::fs::read_to_string(path("lessons/15-when-your-image-is-wrong.json")).unwrap();
     for m in Mistake::ALL {
-        assert!(chapter.contains(&format!("| `{}` |", m.name())), "{m} has no row in chapter 15");
+        assert!(
+            chapter.contains(&format!("| `{}` |", m.name())),
+            "{m} has no row in chapter 15"
+        );
         // The Intersect-stage pair needs the stage's switch to be rendered from the CLI.
         if !matches!(m, Mistake::IntersectPointLights | Mistake::IntersectShadows) {
             assert!(

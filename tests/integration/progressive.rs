@@ -18,7 +18,11 @@ fn budgeted_render_equals_passes_k_on_any_thread_count() {
     let scene = path("scenes/whitted.json");
     let s = scene.to_str().unwrap();
     let budget = tmp("budget.png");
-    let o = rtlab(&render_args(s, budget.to_str().unwrap(), &["--time-budget", "0.3"]));
+    let o = rtlab(&render_args(
+        s,
+        budget.to_str().unwrap(),
+        &["--time-budget", "0.3"],
+    ));
     assert!(o.status.success(), "{}", stderr(&o));
     let err = stderr(&o);
     let k: String = err
@@ -38,7 +42,10 @@ fn budgeted_render_equals_passes_k_on_any_thread_count() {
             &["--passes", &k, "--threads", threads, "--quiet"],
         ));
         assert!(o.status.success(), "{}", stderr(&o));
-        assert!(std::fs::read(&out).unwrap() == want, "--passes {k} --threads {threads}");
+        assert!(
+            std::fs::read(&out).unwrap() == want,
+            "--passes {k} --threads {threads}"
+        );
     }
     // A budget with a cap stops at the cap, and is then --passes of the cap.
     let capped = tmp("capped.png");
@@ -47,7 +54,11 @@ fn budgeted_render_equals_passes_k_on_any_thread_count() {
         capped.to_str().unwrap(),
         &["--time-budget", "100", "--passes", "2", "--threads", "2"],
     ));
-    assert!(stderr(&o).contains("the same image: --passes 2"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("the same image: --passes 2"),
+        "{}",
+        stderr(&o)
+    );
     let plain = tmp("plain.png");
     let o = rtlab(&render_args(s, plain.to_str().unwrap(), &["--quiet"]));
     assert!(o.status.success());
@@ -90,9 +101,16 @@ fn bad_pass_arguments_are_refused() {
         (vec!["--passes", "0"], "argument --passes"),
         (vec!["--passes", "30"], "argument --passes"),
         (vec!["--time-budget", "0"], "argument --time-budget"),
-        (vec!["--time-budget", "1", "--aov", "depth"], "argument --time-budget"),
+        (
+            vec!["--time-budget", "1", "--aov", "depth"],
+            "argument --time-budget",
+        ),
     ] {
-        let o = rtlab(&render_args(scene.to_str().unwrap(), out.to_str().unwrap(), &args));
+        let o = rtlab(&render_args(
+            scene.to_str().unwrap(),
+            out.to_str().unwrap(),
+            &args,
+        ));
         assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
         assert!(stderr(&o).contains(want), "{args:?}: {}", stderr(&o));
         assert!(!out.exists());

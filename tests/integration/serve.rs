@@ -185,6 +185,15 @@ fn render_and_explain_are_the_clis_bytes() {
             vec!["--sampler", "jittered", "--spp", "4"],
         ),
         ("x=200&y=150&no-reflections", vec!["--no-reflections"]),
+        // With a mistake, explain adds what differs from the correct run: so does the API.
+        (
+            "x=200&y=150&mistake=blinn-phong",
+            vec!["--mistake", "blinn-phong"],
+        ),
+        (
+            "x=160&y=120&course-stage=intersect",
+            vec!["--course-stage", "intersect"],
+        ),
     ] {
         let r = s.get(&format!("/api/explain?{q}"));
         assert_eq!(r.status, 200, "{q}: {}", r.text());

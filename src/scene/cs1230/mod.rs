@@ -45,8 +45,7 @@ pub fn bytes_per_primitive() -> u64 {
     use std::mem::size_of;
     let names = 2 * 24; // the object's and its material's name ("sphere#123456")
     let bvh = 96; // build records and the nodes' share
-    (size_of::<FlatObject>() + size_of::<Object>() + 2 * size_of::<Material>() + names + bvh)
-        as u64
+    (size_of::<FlatObject>() + size_of::<Object>() + 2 * size_of::<Material>() + names + bvh) as u64
 }
 
 /// Most primitives and lights a scenefile may expand to: [`MAX_SCENE_BYTES`] at

@@ -51,12 +51,19 @@ impl Differences {
     /// The text block appended to `explain`'s text output.
     pub fn text(&self) -> String {
         let names = self.mistakes.names();
-        let mut t = format!("\nWhere --mistake {names} changes the numbers (correct → with the mistake):\n");
+        let mut t = format!(
+            "\nWhere --mistake {names} changes the numbers (correct → with the mistake):\n"
+        );
         if self.list.is_empty() {
             t += "  nowhere: this pixel is the same with and without the mistake\n";
         }
         for d in self.list.iter().take(TEXT_LIMIT) {
-            t += &format!("  ≠ {}: {} → {}\n", d.path, show(&d.correct), show(&d.mistake));
+            t += &format!(
+                "  ≠ {}: {} → {}\n",
+                d.path,
+                show(&d.correct),
+                show(&d.mistake)
+            );
         }
         if self.list.len() > TEXT_LIMIT {
             t += &format!(
@@ -85,7 +92,9 @@ pub fn differences(
     correct_scene.render.mistakes = Mistakes::NONE;
     let mut correct = explain(&correct_scene, x, y);
     if let Some(k) = sample {
-        correct.samples.retain(|s| s.pixel == [x, y] && s.index == k);
+        correct
+            .samples
+            .retain(|s| s.pixel == [x, y] && s.index == k);
     }
     let a = serde_json::to_value(&correct).expect("serialisable");
     let b = serde_json::to_value(with).expect("serialisable");
@@ -98,7 +107,13 @@ pub fn differences(
 /// whenever a test does, and the hit, shading and colours already say what changed.
 const SKIPPED: [&str; 2] = ["tests", "bvh_nodes"];
 
-fn walk(a: &Value, b: &Value, path: &mut Vec<String>, json: &mut String, out: &mut Vec<Difference>) {
+fn walk(
+    a: &Value,
+    b: &Value,
+    path: &mut Vec<String>,
+    json: &mut String,
+    out: &mut Vec<Difference>,
+) {
     match (a, b) {
         (Value::Object(ma), Value::Object(mb)) => {
             let mut keys: Vec<&String> = ma.keys().chain(mb.keys()).collect();
@@ -167,7 +182,10 @@ fn walk(a: &Value, b: &Value, path: &mut Vec<String>, json: &mut String, out: &m
 /// How an item of a list is named in a readable path.
 fn item_label(list: &str, v: &Value, i: usize) -> String {
     match list {
-        "samples" => format!("sample {}", v.get("index").and_then(Value::as_u64).unwrap_or(i as u64)),
+        "samples" => format!(
+            "sample {}",
+            v.get("index").and_then(Value::as_u64).unwrap_or(i as u64)
+        ),
         "ray" | "children" => {
             let kind = v.get("kind").and_then(Value::as_str).unwrap_or("child");
             let depth = v.get("depth").and_then(Value::as_u64).unwrap_or(0);
@@ -219,4 +237,14 @@ fn show(v: &Value) -> String {
         Value::Object(_) => "{…}".into(),
         other => other.to_string(),
     }
+}
+
+/// The explanation as `explain --format json` prints it: with `mistakes` and `differences`
+/// added when the scene renders with mistakes. The CLI and the server both answer with this.
+pub fn to_json(scene: &Scene, x: u32, y: u32, sample: Option<u32>, e: &Explanation) -> String {
+    let text = match differences(scene, x, y, sample, e) {
+        Some(d) => serde_json::to_string_pretty(&d.annotate(e)),
+        None => serde_json::to_string_pretty(e),
+    };
+    text.expect("serialisable") + "\n"
 }
