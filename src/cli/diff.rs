@@ -147,7 +147,7 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<Outcome> {
                 crate::sampling::render(&scene, &scene.render, false, None)
             })?;
             crate::interrupt::check()?;
-            r.image.to_rgb8(scene.render.encoding)
+            r.image.to_rgb8_for(&scene.render)
         }
     };
     let opts = Options {

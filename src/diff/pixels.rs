@@ -237,6 +237,6 @@ pub fn hits(
 pub fn bytes(scene: &Scene, settings: &RenderSettings, pixels: &[(u32, u32)]) -> Vec<[u8; 3]> {
     colors(scene, settings, pixels)
         .into_iter()
-        .map(|c| crate::sampling::encode(c, settings.encoding))
+        .map(|c| crate::sampling::encode_as(c, settings.encoding, settings.mistakes))
         .collect()
 }

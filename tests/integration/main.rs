@@ -5,6 +5,7 @@ mod book;
 mod common;
 mod cs1230;
 mod csg;
+mod diff;
 mod errors;
 mod explain;
 mod intersect;
