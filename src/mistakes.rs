@@ -43,7 +43,7 @@ macro_rules! catalogue {
 
 catalogue! {
     NormalNotNormalized = "normal-not-normalized",
-        "the normal is not normalised after the inverse transpose, so scaled objects are lit too brightly or too darkly",
+        "the normal is not normalised after the inverse transpose, so objects scaled down are lit too brightly and objects scaled up too darkly",
         "n_world = normalize((M⁻¹)ᵀ · n_object)";
     NormalObjectMatrix = "normal-object-matrix",
         "the normal goes through the object's matrix M instead of its inverse transpose, so non-uniformly scaled objects get tilted normals",
@@ -61,7 +61,7 @@ catalogue! {
         "specular is added where the light is behind the surface (n·l ≤ 0)",
         "specular only where n·l > 0: ks·Os·max(0, r·v)ⁿ";
     ReflectSign = "reflect-sign",
-        "the reflection vector has the wrong sign: r = 2(n·l)n + l (or d + 2(d·n)n for rays)",
+        "the reflection vector has the wrong sign: r = l − 2(n·l)n for highlights, and mirror rays −(d − 2(d·n)n) that point into the surface",
         "r = 2(n·l)n − l, reflected ray d − 2(d·n)n";
     DirectionalNotNegated = "directional-not-negated",
         "a directional light's direction is used as l without negating it, so directional lights light the far side",
@@ -85,7 +85,7 @@ catalogue! {
         "shadow rays towards a point light are blocked by objects beyond the light",
         "a shadow ray to a point light only counts hits with t < distance to the light";
     RecursionUnclamped = "recursion-unclamped",
-        "recursive colours are not clamped to [0, 1] before the parent uses them",
+        "recursive colours are not clamped to [0, 1] before the parent uses them (where each ray is clamped: course scenefiles, or render.clamp_each_ray)",
         "I_r = clamp(trace(reflected ray), 0, 1)";
     ReflectionWithoutKs = "reflection-without-ks",
         "the reflected term is weighted by Or alone, not ks·Or",
@@ -100,7 +100,7 @@ catalogue! {
         "the texel is multiplied by kd·Od in the blend instead of replacing its share of it",
         "diffuse = (1 − blend)·kd·Od + blend·texel";
     TextureOffByOne = "texture-off-by-one",
-        "the texel index is rounded instead of floored, so the texture shifts half a texel and the last column reads the first",
+        "the texel index is rounded instead of floored, so the texture shifts half a texel and the last half column wraps to the first",
         "texel = floor(u·m·w) mod w";
     SrgbGamma = "srgb-gamma",
         "an sRGB curve is applied to the bytes where the course writes linear values",
@@ -121,10 +121,10 @@ catalogue! {
         "the image is upside down (row 0 taken as the bottom of the film)",
         "y = 0.5 − (j + 0.5)/H: row 0 is the top";
     ConeNormal = "cone-normal",
-        "the cone's side normal drops the slope: (x, 0, z) instead of (x, r²/h·…, z)",
-        "cone side normal ∝ (2x, −2(r/h)²(y − y_apex), 2z) = ∇(x² + z² − (r/h)²(y − y_apex)²)";
+        "the cone's side normal drops the slope: (x, 0, z), the cylinder's normal, instead of the gradient of the cone",
+        "cone side normal ∝ ∇(x² + z² − k²(y − y_apex)²) = (x, −k²(y − y_apex), z), k = r/h";
     CapRadius = "cap-radius",
-        "a cap is accepted at x² + z² ≤ r instead of r², so caps of radius 0.5 are too big",
+        "a cap is accepted at x² + z² ≤ r instead of r², so a cap of radius 0.5 grows to √0.5 past the body",
         "cap hit when x² + z² ≤ r²";
     SpotLinearFalloff = "spot-linear-falloff",
         "the spot light's penumbra falls off linearly instead of smoothly",

@@ -54,7 +54,9 @@ pub fn encode_as(c: DVec3, encoding: Encoding, mistakes: Mistakes) -> [u8; 3] {
     let f = |x: f64| -> u8 {
         let x = if x.is_nan() { 0.0 } else { x.clamp(0.0, 1.0) };
         let srgb = |x: f64| {
-            if x <= 0.003_130_8 {
+            if x >= 1.0 {
+                1.0 // not 1.055 − 0.055, a hair below 1
+            } else if x <= 0.003_130_8 {
                 12.92 * x
             } else {
                 1.055 * x.powf(1.0 / 2.4) - 0.055

@@ -9,6 +9,7 @@ mod diff;
 mod errors;
 mod explain;
 mod intersect;
+mod mistakes;
 mod props;
 mod render;
 mod robust;
