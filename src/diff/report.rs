@@ -92,6 +92,10 @@ pub fn to_json(scene: &Scene, r: &Report) -> Value {
     })
 }
 
+/// A term fit that explains less than this share of a region is not shown to people (the
+/// JSON still has it): the difference is not one of lighting.
+pub const WELL_EXPLAINED: f64 = 0.5;
+
 fn count(n: usize) -> String {
     let s = n.to_string();
     let mut out = String::new();
@@ -180,15 +184,15 @@ pub fn to_text(scene: &Scene, r: &Report, max_percent: f64) -> String {
             objects_words(g),
             difference_words(g.mean_difference),
         );
-        for t in &g.fit.terms {
+        if g.fit.explained < WELL_EXPLAINED {
+            s += "  term: no term of the lighting ledger explains most of it (the geometry, the camera or the bytes differ)\n";
+        }
+        for t in g.fit.terms.iter().filter(|_| g.fit.explained >= WELL_EXPLAINED) {
             s += &format!(
                 "  term: {} ({:.0} % of the difference)\n",
                 terms::sentence(scene, t),
                 100.0 * t.explained
             );
-        }
-        if g.fit.terms.is_empty() {
-            s += "  term: no term of the ledger explains this difference\n";
         }
         match g.mistakes.first() {
             Some(f) => {

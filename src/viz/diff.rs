@@ -75,9 +75,12 @@ pub fn figure(scene: &Scene, expected: &RgbImage, yours: &RgbImage, rep: &Report
                 g.members.len().to_string(),
                 report::objects_words(g),
                 report::difference_words(g.mean_difference),
-                g.fit.terms.first().map_or("(none fits)".into(), |t| {
-                    format!("{} ({:.0} %)", terms::sentence(scene, t), 100.0 * t.explained)
-                }),
+                match g.fit.terms.first() {
+                    Some(t) if g.fit.explained >= report::WELL_EXPLAINED => {
+                        format!("{} ({:.0} %)", terms::sentence(scene, t), 100.0 * t.explained)
+                    }
+                    _ => "(no lighting term explains it)".into(),
+                },
                 best_mistake(scene, g),
             ]
         })
