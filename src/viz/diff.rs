@@ -15,6 +15,7 @@ pub const HEAT_LEVELS: f64 = 64.0;
 /// shrunk.
 const PANEL: u32 = 300;
 
+
 /// What the table says of a region's best mistake.
 pub fn best_mistake(scene: &Scene, g: &crate::diff::Region) -> String {
     g.mistakes.first().map_or("(none of the catalogue)".into(), |f| {
@@ -37,7 +38,7 @@ pub fn figure(scene: &Scene, expected: &RgbImage, yours: &RgbImage, rep: &Report
     let heat = heat_map(&diff, iw, ih, HEAT_LEVELS);
     // Magnify by a whole factor, or shrink by one (box-filtered) to about PANEL pixels.
     let (up, down) = if iw <= PANEL {
-        ((PANEL / iw).max(1), 1)
+        (((PANEL + iw / 2) / iw).max(1), 1)
     } else {
         (1, iw.div_ceil(PANEL))
     };
