@@ -144,6 +144,15 @@ catalogue! {
     IntersectShadows = "intersect-shadows",
         "shadows are cast in the Intersect stage, which has none",
         "the Intersect stage: no shadow rays";
+    NoAmbient = "no-ambient",
+        "the ambient term is left out, so every unlit or shadowed point is black",
+        "I = ka·Oa + Σ f_att·I_l·(…)";
+    ShadowRayUnnormalized = "shadow-ray-unnormalized",
+        "the shadow ray's direction is light − p, not made unit length, yet blockers are still counted up to t = distance, so they count out to distance² (beyond a light farther than 1, short of one nearer)",
+        "shadow ray p + t·l with l unit and 0 < t < distance to the light";
+    RefractionEtaInverted = "refraction-eta-inverted",
+        "η in Snell's law is inverted (η₂/η₁ instead of η₁/η₂), so glass bends rays the wrong way",
+        "η₁ sin θ₁ = η₂ sin θ₂: t = η·d + (η·cos θi − cos θt)·n with η = η₁/η₂";
 }
 
 impl Mistake {

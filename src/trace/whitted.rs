@@ -186,7 +186,9 @@ impl<'a> Tracer<'a> {
         let shadows = self.settings.shadows
             || (self.settings.directional_only && mistakes.has(Mistake::IntersectShadows));
 
-        let ambient = if mistakes.has(Mistake::AmbientTimesLight) {
+        let ambient = if mistakes.has(Mistake::NoAmbient) {
+            DVec3::ZERO // `no-ambient`
+        } else if mistakes.has(Mistake::AmbientTimesLight) {
             // `ambient-times-light`: added once per light, times that light's colour.
             let lit: DVec3 = scene
                 .lights
@@ -344,7 +346,9 @@ impl<'a> Tracer<'a> {
                 };
                 for &ch in channels {
                     let ior = m.ior[ch.unwrap_or(0)];
-                    let eta = if entering { 1.0 / ior } else { ior };
+                    // `refraction-eta-inverted`: η₂/η₁ instead of η₁/η₂.
+                    let inverted = mistakes.has(Mistake::RefractionEtaInverted);
+                    let eta = if entering != inverted { 1.0 / ior } else { ior };
                     let mask = match ch {
                         Some(k) => DVec3::AXES[k],
                         None => DVec3::ONE,
@@ -385,10 +389,15 @@ impl<'a> Tracer<'a> {
         depth: u32,
         rec: &mut R,
     ) -> bool {
-        let ray = Ray::new(origin, l);
+        let mistakes = self.settings.mistakes;
+        // `shadow-ray-unnormalized`: the direction light − p, t still bounded by the distance.
+        let ray = if mistakes.has(Mistake::ShadowRayUnnormalized) && distance.is_finite() {
+            Ray::new(origin, l * distance)
+        } else {
+            Ray::new(origin, l)
+        };
         rec.begin_ray(RayKind::Shadow, depth + 1, &ray);
         let scene = self.scene;
-        let mistakes = self.settings.mistakes;
         // `shadow-beyond-light`: blockers counted at any distance, past the light too.
         let t_max = if mistakes.has(Mistake::ShadowBeyondLight) {
             f64::INFINITY

@@ -91,7 +91,7 @@ fn darker_or_equal(a: DVec3, b: DVec3) -> bool {
 
 #[test]
 fn every_mistake_changes_its_scene_and_the_empty_set_changes_nothing() {
-    let scenes = ["lit", "mirror", "occlusion", "textured", "solids", "spot"];
+    let scenes = ["lit", "mirror", "occlusion", "textured", "solids", "spot", "glass"];
     let loaded: Vec<Scene> = scenes.iter().map(|s| load(s)).collect();
     // The scene settings that show each mistake (the Intersect ones need the stage).
     for &m in Mistake::ALL {
@@ -765,4 +765,56 @@ fn steps_and_compare_take_the_mistake() {
         v["runs"][0]["rmse"].as_f64().unwrap()
     };
     assert_ne!(run_compare(&[]), run_compare(&["--mistake", "pixel-corner"]));
+}
+
+#[test]
+fn no_ambient_is_the_ambient_term_switched_off() {
+    let scene = load("lit");
+    let mut off = scene.render.clone();
+    off.ambient = false;
+    let bad = linear(&scene, &under(&scene, Mistake::NoAmbient));
+    assert_eq!(bad, linear(&scene, &off));
+    assert_ne!(bad, linear(&scene, &scene.render));
+}
+
+#[test]
+fn unnormalised_shadow_rays_count_blockers_out_to_the_distance_squared() {
+    // The lamp is more than 1 away from everything lit: blockers out to d² count too, so the
+    // slab beyond the lamp shadows the floor, as with shadow-beyond-light, never brightening.
+    let scene = load("occlusion");
+    let good = linear(&scene, &scene.render);
+    let bad = linear(&scene, &under(&scene, Mistake::ShadowRayUnnormalized));
+    let c = changed(&good, &bad);
+    assert_only("shadow-ray-unnormalized", &c, 200, |i| darker_or_equal(bad[i], good[i]));
+    let beyond = linear(&scene, &under(&scene, Mistake::ShadowBeyondLight));
+    for &i in &c {
+        assert!(!differs(bad[i], beyond[i]) || darker_or_equal(beyond[i], bad[i]));
+    }
+}
+
+#[test]
+fn inverted_eta_changes_only_what_is_seen_through_glass() {
+    let scene = load("glass");
+    let good = linear(&scene, &scene.render);
+    let hit = hits(&scene, Mistakes::NONE);
+    let bad = linear(&scene, &under(&scene, Mistake::RefractionEtaInverted));
+    assert_only("refraction-eta-inverted", &changed(&good, &bad), 500, |i| {
+        on(&hit[i], &["glass"])
+    });
+}
+
+#[test]
+fn the_gallery_shows_every_mistake() {
+    let chapter = std::fs::read_to_string(path("book/src/15-when-your-image-is-wrong.md")).unwrap();
+    let lesson = std::fs::read_to_string(path("lessons/15-when-your-image-is-wrong.json")).unwrap();
+    for m in Mistake::ALL {
+        assert!(chapter.contains(&format!("| `{}` |", m.name())), "{m} has no row in chapter 15");
+        // The Intersect-stage pair needs the stage's switch to be rendered from the CLI.
+        if !matches!(m, Mistake::IntersectPointLights | Mistake::IntersectShadows) {
+            assert!(
+                lesson.contains(&format!("--mistake {} ", m.name())),
+                "{m} has no figure in lessons/15"
+            );
+        }
+    }
 }
