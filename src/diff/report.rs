@@ -25,19 +25,46 @@ fn round(x: f64, digits: i32) -> f64 {
 }
 
 /// The mistakes the regions point at, over the whole image: each region's best one, with
-/// the regions (numbered from 1) and pixels it explains; most pixels first.
+/// the regions (numbered from 1) and pixels it explains; most pixels first. Where mistakes tie
+/// in a region (they make the same image there), the one that is best in the most pixels over
+/// the image names it: one mistake made everywhere, rather than two that look alike.
 pub fn diagnosis(scene: &Scene, r: &Report) -> Vec<(Vec<&'static str>, Vec<usize>, usize)> {
+    // Per region, the names of its best suspects (all within a hair of the best).
+    let tied: Vec<Vec<Vec<&'static str>>> = r
+        .regions
+        .iter()
+        .map(|g| match g.mistakes.first() {
+            None => Vec::new(),
+            Some(best) => g
+                .mistakes
+                .iter()
+                .filter(|f| f.explained >= best.explained - 1e-6)
+                .map(|f| super::suspects::added(scene, f))
+                .collect(),
+        })
+        .collect();
+    let mut left: Vec<usize> = (0..r.regions.len()).filter(|&i| !tied[i].is_empty()).collect();
     let mut out: Vec<(Vec<&'static str>, Vec<usize>, usize)> = Vec::new();
-    for (i, g) in r.regions.iter().enumerate() {
-        let Some(best) = g.mistakes.first() else { continue };
-        let names = super::suspects::added(scene, best);
-        match out.iter_mut().find(|d| d.0 == names) {
-            Some(d) => {
-                d.1.push(i + 1);
-                d.2 += g.members.len();
+    while !left.is_empty() {
+        // The suspect best in the most pixels of the regions not yet named; the earlier
+        // region's first on a tie.
+        let mut pick: Option<(Vec<&'static str>, usize)> = None;
+        for &i in &left {
+            for names in &tied[i] {
+                let pixels: usize = left
+                    .iter()
+                    .filter(|&&j| tied[j].contains(names))
+                    .map(|&j| r.regions[j].members.len())
+                    .sum();
+                if pick.as_ref().is_none_or(|p| pixels > p.1) {
+                    pick = Some((names.clone(), pixels));
+                }
             }
-            None => out.push((names, vec![i + 1], g.members.len())),
         }
+        let (names, pixels) = pick.expect("a region left has suspects");
+        let regions: Vec<usize> = left.iter().filter(|&&j| tied[j].contains(&names)).map(|j| j + 1).collect();
+        left.retain(|j| !tied[*j].contains(&names));
+        out.push((names, regions, pixels));
     }
     out.sort_by_key(|d| std::cmp::Reverse(d.2));
     out
