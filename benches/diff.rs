@@ -16,11 +16,20 @@ fn main() {
         ("tests/cs1230/scenes/lights.json", &[Mistake::ShadowAcne]),
         ("tests/cs1230/scenes/lights.json", &[Mistake::NoAttenuation]),
         ("tests/cs1230/scenes/lights.json", &[Mistake::BlinnPhong]),
-        ("tests/cs1230/scenes/lights.json", &[Mistake::SpotFullAngle, Mistake::ReflectSign]),
-        ("tests/cs1230/scenes/mirrors.json", &[Mistake::ReflectionWithoutKs]),
+        (
+            "tests/cs1230/scenes/lights.json",
+            &[Mistake::SpotFullAngle, Mistake::ReflectSign],
+        ),
+        (
+            "tests/cs1230/scenes/mirrors.json",
+            &[Mistake::ReflectionWithoutKs],
+        ),
         ("tests/cs1230/scenes/mirrors.json", &[Mistake::PixelCorner]),
     ];
-    println!("{:<40} {:>10} {:>9} {:>8} {:>10}  best mistake", "scene, mistake", "render s", "diff s", "regions", "differ %");
+    println!(
+        "{:<40} {:>10} {:>9} {:>8} {:>10}  best mistake",
+        "scene, mistake", "render s", "diff s", "regions", "differ %"
+    );
     let mut times = Vec::new();
     for (path, ms) in cases {
         let mut scene = Scene::load(std::path::Path::new(path)).expect("scene loads");
@@ -32,7 +41,9 @@ fn main() {
         let render = t0.elapsed().as_secs_f64();
         let mut s = scene.render.clone();
         s.mistakes = ms.iter().copied().collect::<Mistakes>();
-        let yours = rtlab::sampling::render(&scene, &s, false, None).image.to_rgb8_for(&s);
+        let yours = rtlab::sampling::render(&scene, &s, false, None)
+            .image
+            .to_rgb8_for(&s);
         let t0 = Instant::now();
         let rep = diff::diff(&scene, &expected, &yours, &Options::default()).expect("same size");
         let t = t0.elapsed().as_secs_f64();
@@ -41,8 +52,15 @@ fn main() {
             .first()
             .map(|d| d.0.join(" + "))
             .unwrap_or_else(|| "-".into());
-        let name = format!("{} {}", path.rsplit('/').next().unwrap(), s.mistakes.names());
-        println!("{name:<40} {render:>10.2} {t:>9.2} {:>8} {:>10.2}  {best}", rep.regions_found, rep.metrics.diff_percent);
+        let name = format!(
+            "{} {}",
+            path.rsplit('/').next().unwrap(),
+            s.mistakes.names()
+        );
+        println!(
+            "{name:<40} {render:>10.2} {t:>9.2} {:>8} {:>10.2}  {best}",
+            rep.regions_found, rep.metrics.diff_percent
+        );
     }
     times.sort_by(f64::total_cmp);
     println!(

@@ -41,7 +41,10 @@ pub struct Args {
 
 /// A path as a shell word (quoted when it needs to be).
 fn shell_word(s: &str) -> String {
-    if !s.is_empty() && s.chars().all(|c| c.is_ascii_alphanumeric() || "-_./,=+:".contains(c)) {
+    if !s.is_empty()
+        && s.chars()
+            .all(|c| c.is_ascii_alphanumeric() || "-_./,=+:".contains(c))
+    {
         s.to_string()
     } else {
         format!("'{}'", s.replace('\'', "'\\''"))
@@ -63,7 +66,10 @@ pub fn render_flags(r: &RenderArgs) -> String {
     opt("sampler", r.sampler.clone());
     opt("filter", r.filter.clone());
     opt("subsample", r.subsample.map(|v| v.to_string()));
-    opt("adaptive-threshold", r.adaptive_threshold.map(|v| v.to_string()));
+    opt(
+        "adaptive-threshold",
+        r.adaptive_threshold.map(|v| v.to_string()),
+    );
     opt("max-depth", r.max_depth.map(|v| v.to_string()));
     opt("seed", r.seed.map(|v| v.to_string()));
     opt("encoding", r.encoding.clone());
@@ -106,7 +112,10 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<Outcome> {
     if !(args.max_percent.is_finite() && (0.0..=100.0).contains(&args.max_percent)) {
         return Err(Error::arg(
             "--max-percent",
-            format!("{} is not a percentage (expected 0 to 100)", args.max_percent),
+            format!(
+                "{} is not a percentage (expected 0 to 100)",
+                args.max_percent
+            ),
         ));
     }
     if let Some(o) = &args.output {
@@ -142,7 +151,8 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<Outcome> {
                     h,
                 ));
             }
-            args.render.check_memory(&scene, &args.scene, scene.render.spp)?;
+            args.render
+                .check_memory(&scene, &args.scene, scene.render.spp)?;
             let r = with_threads(args.threads, || {
                 crate::sampling::render(&scene, &scene.render, false, None)
             })?;
@@ -153,11 +163,16 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<Outcome> {
     let opts = Options {
         tolerance: args.tolerance,
         max_percent: args.max_percent,
-        explain: format!("rtlab explain {}", shell_word(&args.scene.display().to_string())),
+        explain: format!(
+            "rtlab explain {}",
+            shell_word(&args.scene.display().to_string())
+        ),
         explain_flags: render_flags(&args.render),
         ..Options::default()
     };
-    let rep = with_threads(args.threads, || diff::diff(&scene, &expected, &yours, &opts))??;
+    let rep = with_threads(args.threads, || {
+        diff::diff(&scene, &expected, &yours, &opts)
+    })??;
     if let Some(o) = &args.output {
         crate::viz::diff::figure(&scene, &expected, &yours, &rep).write_png(o)?;
     }
@@ -171,5 +186,9 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<Outcome> {
         t
     };
     emit(out, &text)?;
-    Ok(if rep.same { Outcome::Same } else { Outcome::Different })
+    Ok(if rep.same {
+        Outcome::Same
+    } else {
+        Outcome::Different
+    })
 }

@@ -110,7 +110,12 @@ pub struct Report {
 
 /// Compares `yours` with `expected` (both the size of the scene's image) and explains each
 /// region of difference with the scene. Fails, saying both sizes, when the sizes differ.
-pub fn diff(scene: &Scene, expected: &RgbImage, yours: &RgbImage, opts: &Options) -> Result<Report> {
+pub fn diff(
+    scene: &Scene,
+    expected: &RgbImage,
+    yours: &RgbImage,
+    opts: &Options,
+) -> Result<Report> {
     let (w, h) = expected.dimensions();
     if yours.dimensions() != (w, h) {
         return Err(Error::Other(format!(
@@ -153,7 +158,13 @@ pub fn diff(scene: &Scene, expected: &RgbImage, yours: &RgbImage, opts: &Options
     for (&(x, y), hit) in diff_pixels.iter().zip(&hits) {
         under[(y * w + x) as usize] = *hit;
     }
-    let groups = regions::group(&mask, w, h, |x, y| under[(y * w + x) as usize].map(|h| h.0), 4);
+    let groups = regions::group(
+        &mask,
+        w,
+        h,
+        |x, y| under[(y * w + x) as usize].map(|h| h.0),
+        4,
+    );
     let regions_found = groups.len();
     let candidates = terms::candidates(scene, scene.render.shadows);
     let regions = groups
@@ -187,7 +198,11 @@ fn region(
 ) -> Region {
     let w = expected.width();
     let n = g.pixels.len();
-    let diffs: Vec<[i32; 3]> = g.pixels.iter().map(|&p| signed_difference(expected, yours, p)).collect();
+    let diffs: Vec<[i32; 3]> = g
+        .pixels
+        .iter()
+        .map(|&p| signed_difference(expected, yours, p))
+        .collect();
     let mut mean = [0.0; 3];
     let mut median = [0i32; 3];
     for c in 0..3 {
@@ -234,12 +249,21 @@ fn region(
         })
         .collect();
 
-    let fit = fit_terms(scene, expected, yours, &regions::spread(&g.pixels, opts.fit_pixels), candidates);
+    let fit = fit_terms(
+        scene,
+        expected,
+        yours,
+        &regions::spread(&g.pixels, opts.fit_pixels),
+        candidates,
+    );
     let mistakes = if opts.mistake_pixels == 0 {
         Vec::new()
     } else {
         let mut scored = regions::spread(&g.pixels, opts.mistake_pixels);
-        scored.extend(regions::spread(&agreeing_near(expected, yours, &g, opts.tolerance), opts.mistake_pixels / 2));
+        scored.extend(regions::spread(
+            &agreeing_near(expected, yours, &g, opts.tolerance),
+            opts.mistake_pixels / 2,
+        ));
         suspects::search(scene, expected, yours, &scored)
     };
     Region {
@@ -248,7 +272,10 @@ fn region(
         objects,
         mean_difference: mean,
         pixel,
-        explain: format!("{} --pixel {},{}{}", opts.explain, pixel.0, pixel.1, opts.explain_flags),
+        explain: format!(
+            "{} --pixel {},{}{}",
+            opts.explain, pixel.0, pixel.1, opts.explain_flags
+        ),
         fit,
         mistakes,
     }
@@ -256,11 +283,21 @@ fn region(
 
 /// The agreeing pixels of a region's box grown by a few pixels: a mistake that would change
 /// them too is not the one that was made.
-fn agreeing_near(expected: &RgbImage, yours: &RgbImage, g: &regions::PixelGroup, tolerance: u8) -> Vec<(u32, u32)> {
+fn agreeing_near(
+    expected: &RgbImage,
+    yours: &RgbImage,
+    g: &regions::PixelGroup,
+    tolerance: u8,
+) -> Vec<(u32, u32)> {
     let (w, h) = expected.dimensions();
     let m = 4;
     let b = g.bbox;
-    let (x0, y0, x1, y1) = (b[0].saturating_sub(m), b[1].saturating_sub(m), (b[2] + m).min(w - 1), (b[3] + m).min(h - 1));
+    let (x0, y0, x1, y1) = (
+        b[0].saturating_sub(m),
+        b[1].saturating_sub(m),
+        (b[2] + m).min(w - 1),
+        (b[3] + m).min(h - 1),
+    );
     (y0..=y1)
         .flat_map(|y| (x0..=x1).map(move |x| (x, y)))
         .filter(|&(x, y)| !regions::differs(expected, yours, x, y, tolerance))
@@ -306,6 +343,14 @@ pub fn fit_terms(
                 .collect()
         })
         .collect();
-    let px = |img: &RgbImage| -> Vec<[u8; 3]> { sample.iter().map(|&(x, y)| img.get_pixel(x, y).0).collect() };
-    terms::fit(&px(yours), &px(expected), &values, candidates, scene.render.encoding)
+    let px = |img: &RgbImage| -> Vec<[u8; 3]> {
+        sample.iter().map(|&(x, y)| img.get_pixel(x, y).0).collect()
+    };
+    terms::fit(
+        &px(yours),
+        &px(expected),
+        &values,
+        candidates,
+        scene.render.encoding,
+    )
 }

@@ -172,10 +172,16 @@ impl Recorder for LedgerRecorder {
 
 /// Just the colours of `pixels`, as `render` makes them (the zero-cost recorder).
 pub fn colors(scene: &Scene, settings: &RenderSettings, pixels: &[(u32, u32)]) -> Vec<DVec3> {
-    trace_pixels(scene, settings, pixels, crate::trace::NoRecorder::default, |_| ())
-        .into_iter()
-        .map(|p| p.color)
-        .collect()
+    trace_pixels(
+        scene,
+        settings,
+        pixels,
+        crate::trace::NoRecorder::default,
+        |_| (),
+    )
+    .into_iter()
+    .map(|p| p.color)
+    .collect()
 }
 
 /// Keeps only the camera ray's hit: which object, which surface of it.

@@ -79,8 +79,14 @@ mod tests {
         let rgb = image::DynamicImage::ImageRgb8(RgbImage::new(3, 2));
         assert_eq!(decode(p, &png(rgb)).unwrap().dimensions(), (3, 2));
         let cases: Vec<(image::DynamicImage, &str)> = vec![
-            (image::DynamicImage::ImageRgba8(image::RgbaImage::new(3, 2)), "alpha channel"),
-            (image::DynamicImage::ImageLuma8(image::GrayImage::new(3, 2)), "8-bit grey"),
+            (
+                image::DynamicImage::ImageRgba8(image::RgbaImage::new(3, 2)),
+                "alpha channel",
+            ),
+            (
+                image::DynamicImage::ImageLuma8(image::GrayImage::new(3, 2)),
+                "8-bit grey",
+            ),
             (
                 image::DynamicImage::ImageRgb16(image::ImageBuffer::new(3, 2)),
                 "16-bit RGB",
@@ -90,7 +96,9 @@ mod tests {
             let e = decode(p, &png(img)).unwrap_err().to_string();
             assert!(e.contains(says) && e.contains("8-bit RGB PNG"), "{e}");
         }
-        let e = decode(p, b"{\"not\": \"an image\"}").unwrap_err().to_string();
+        let e = decode(p, b"{\"not\": \"an image\"}")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("not an image"), "{e}");
         let e = decode(p, &[]).unwrap_err().to_string();
         assert!(e.contains("empty"), "{e}");

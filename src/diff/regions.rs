@@ -128,7 +128,9 @@ pub fn group(
         if comp.is_empty() {
             continue;
         }
-        let big = (0..comp.len()).max_by_key(|&k| (comp[k].1.len(), usize::MAX - k)).unwrap();
+        let big = (0..comp.len())
+            .max_by_key(|&k| (comp[k].1.len(), usize::MAX - k))
+            .unwrap();
         let mut strays = Vec::new();
         for k in 0..comp.len() {
             if k != big && comp[k].1.len() < min_pixels {
@@ -138,13 +140,24 @@ pub fn group(
         comp[big].1.append(&mut strays);
         for (object, mut pixels) in comp.into_iter().filter(|p| !p.1.is_empty()) {
             pixels.sort_unstable_by_key(|&(x, y)| (y, x));
-            let bbox = pixels.iter().fold([u32::MAX, u32::MAX, 0, 0], |b, &(x, y)| {
-                [b[0].min(x), b[1].min(y), b[2].max(x), b[3].max(y)]
+            let bbox = pixels
+                .iter()
+                .fold([u32::MAX, u32::MAX, 0, 0], |b, &(x, y)| {
+                    [b[0].min(x), b[1].min(y), b[2].max(x), b[3].max(y)]
+                });
+            out.push(PixelGroup {
+                object,
+                pixels,
+                bbox,
             });
-            out.push(PixelGroup { object, pixels, bbox });
         }
     }
-    out.sort_by_key(|g| (std::cmp::Reverse(g.pixels.len()), (g.pixels[0].1, g.pixels[0].0)));
+    out.sort_by_key(|g| {
+        (
+            std::cmp::Reverse(g.pixels.len()),
+            (g.pixels[0].1, g.pixels[0].0),
+        )
+    });
     out
 }
 
@@ -162,7 +175,10 @@ mod tests {
 
     fn mask_of(rows: &[&str]) -> (Vec<bool>, u32, u32) {
         let w = rows[0].len() as u32;
-        let m = rows.iter().flat_map(|r| r.chars().map(|c| c != '.')).collect();
+        let m = rows
+            .iter()
+            .flat_map(|r| r.chars().map(|c| c != '.'))
+            .collect();
         (m, w, rows.len() as u32)
     }
 

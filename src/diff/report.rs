@@ -43,7 +43,9 @@ pub fn diagnosis(scene: &Scene, r: &Report) -> Vec<(Vec<&'static str>, Vec<usize
                 .collect(),
         })
         .collect();
-    let mut left: Vec<usize> = (0..r.regions.len()).filter(|&i| !tied[i].is_empty()).collect();
+    let mut left: Vec<usize> = (0..r.regions.len())
+        .filter(|&i| !tied[i].is_empty())
+        .collect();
     let mut out: Vec<(Vec<&'static str>, Vec<usize>, usize)> = Vec::new();
     while !left.is_empty() {
         // The suspect best in the most pixels of the regions not yet named; the earlier
@@ -62,7 +64,11 @@ pub fn diagnosis(scene: &Scene, r: &Report) -> Vec<(Vec<&'static str>, Vec<usize
             }
         }
         let (names, pixels) = pick.expect("a region left has suspects");
-        let regions: Vec<usize> = left.iter().filter(|&&j| tied[j].contains(&names)).map(|j| j + 1).collect();
+        let regions: Vec<usize> = left
+            .iter()
+            .filter(|&&j| tied[j].contains(&names))
+            .map(|j| j + 1)
+            .collect();
         left.retain(|j| !tied[*j].contains(&names));
         out.push((names, regions, pixels));
     }
@@ -171,7 +177,9 @@ pub fn difference_words(d: [f64; 3]) -> String {
 pub fn to_text(scene: &Scene, r: &Report, max_percent: f64) -> String {
     let m = &r.metrics;
     let total = r.width as usize * r.height as usize;
-    let psnr = m.psnr.map_or("identical".into(), |p| format!("PSNR {p:.1} dB"));
+    let psnr = m
+        .psnr
+        .map_or("identical".into(), |p| format!("PSNR {p:.1} dB"));
     let mut s = format!(
         "{}: {} of {} pixels ({:.2} %) differ by more than {} levels (largest difference {}, {psnr}); {} allows {max_percent} %\n",
         if r.same { "same" } else { "different" },
@@ -214,7 +222,12 @@ pub fn to_text(scene: &Scene, r: &Report, max_percent: f64) -> String {
         if g.fit.explained < WELL_EXPLAINED {
             s += "  term: no term of the lighting ledger explains most of it (the geometry, the camera or the bytes differ)\n";
         }
-        for t in g.fit.terms.iter().filter(|_| g.fit.explained >= WELL_EXPLAINED) {
+        for t in g
+            .fit
+            .terms
+            .iter()
+            .filter(|_| g.fit.explained >= WELL_EXPLAINED)
+        {
             s += &format!(
                 "  term: {} ({:.0} % of the difference)\n",
                 terms::sentence(scene, t),

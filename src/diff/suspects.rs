@@ -38,12 +38,18 @@ pub fn search(
     scored: &[(u32, u32)],
 ) -> Vec<MistakeFit> {
     let base = scene.render.mistakes;
-    let get = |img: &RgbImage| -> Vec<[u8; 3]> { scored.iter().map(|&(x, y)| img.get_pixel(x, y).0).collect() };
+    let get = |img: &RgbImage| -> Vec<[u8; 3]> {
+        scored.iter().map(|&(x, y)| img.get_pixel(x, y).0).collect()
+    };
     let (want, was) = (get(yours), get(expected));
     let sq = |a: &[[u8; 3]], b: &[[u8; 3]]| -> f64 {
         a.iter()
             .zip(b)
-            .map(|(p, q)| (0..3).map(|c| (p[c] as f64 - q[c] as f64).powi(2)).sum::<f64>())
+            .map(|(p, q)| {
+                (0..3)
+                    .map(|c| (p[c] as f64 - q[c] as f64).powi(2))
+                    .sum::<f64>()
+            })
             .sum()
     };
     let total = sq(&want, &was);
@@ -65,7 +71,11 @@ pub fn search(
                 moved += m * m;
             }
         }
-        let cos2 = if moved > 0.0 && dot > 0.0 { dot * dot / (moved * total) } else { 0.0 };
+        let cos2 = if moved > 0.0 && dot > 0.0 {
+            dot * dot / (moved * total)
+        } else {
+            0.0
+        };
         (1.0 - sq(&want, &got) / total, cos2)
     };
     let singles: Vec<(Mistake, f64, f64)> = Mistake::ALL
@@ -76,7 +86,10 @@ pub fn search(
             (m, e, c)
         })
         .collect();
-    let fit = |set: Mistakes, explained: f64| MistakeFit { mistakes: set, explained };
+    let fit = |set: Mistakes, explained: f64| MistakeFit {
+        mistakes: set,
+        explained,
+    };
     let mut all: Vec<MistakeFit> = singles.iter().map(|s| fit(base.with(s.0), s.1)).collect();
     let by = |key: fn(&(Mistake, f64, f64)) -> f64| {
         let mut v: Vec<&(Mistake, f64, f64)> = singles.iter().filter(|s| key(s) > 0.0).collect();
@@ -84,12 +97,18 @@ pub fn search(
         v.into_iter().map(|s| s.0).collect::<Vec<Mistake>>()
     };
     let best = by(|s| s.1);
-    if best.first().is_none_or(|m| singles.iter().any(|s| s.0 == *m && s.1 < 0.98)) {
+    if best
+        .first()
+        .is_none_or(|m| singles.iter().any(|s| s.0 == *m && s.1 < 0.98))
+    {
         // Pairs: the best singles with every other mistake (forward selection), and the
         // singles that point the right way with each other.
         let mut pairs: Vec<(Mistake, Mistake)> = Vec::new();
         let pointing = by(|s| s.2);
-        let leads = best.iter().take(FORWARD).chain(pointing.iter().take(FORWARD));
+        let leads = best
+            .iter()
+            .take(FORWARD)
+            .chain(pointing.iter().take(FORWARD));
         for &a in leads {
             for s in &singles {
                 pairs.push((a.min(s.0), a.max(s.0)));

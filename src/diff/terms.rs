@@ -81,7 +81,10 @@ pub struct Fit {
 pub fn candidates(scene: &Scene, shadows: bool) -> Vec<Term> {
     let n = scene.lights.len();
     let ignored = scene.render.directional_only;
-    let mut v = vec![Term { kind: TermKind::Ambient, light: None }];
+    let mut v = vec![Term {
+        kind: TermKind::Ambient,
+        light: None,
+    }];
     let mut kinds = vec![TermKind::Diffuse, TermKind::Specular, TermKind::Light];
     if shadows {
         kinds.push(TermKind::Shadow);
@@ -91,15 +94,24 @@ pub fn candidates(scene: &Scene, shadows: bool) -> Vec<Term> {
     }
     for &kind in &kinds {
         for l in 0..n {
-            v.push(Term { kind, light: Some(l) });
+            v.push(Term {
+                kind,
+                light: Some(l),
+            });
         }
         // Shadows summed over the lights reach into reflections too: worth a term of its own.
         if n > 1 || kind == TermKind::Shadow {
             v.push(Term { kind, light: None });
         }
     }
-    v.push(Term { kind: TermKind::Reflected, light: None });
-    v.push(Term { kind: TermKind::Transmitted, light: None });
+    v.push(Term {
+        kind: TermKind::Reflected,
+        light: None,
+    });
+    v.push(Term {
+        kind: TermKind::Transmitted,
+        light: None,
+    });
     v
 }
 
@@ -143,9 +155,7 @@ pub fn value(term: Term, lit: &Ledger, unshadowed: Option<&Ledger>) -> DVec3 {
         // One light's shadow at the first hit; every shadow anywhere in the ray tree (those
         // seen in a mirror too) for the sum over the lights.
         TermKind::Shadow => match (unshadowed, term.light) {
-            (Some(u), Some(l)) => {
-                u.diffuse[l] + u.specular[l] - lit.diffuse[l] - lit.specular[l]
-            }
+            (Some(u), Some(l)) => u.diffuse[l] + u.specular[l] - lit.diffuse[l] - lit.specular[l],
             (Some(u), None) => u.color - lit.color,
             (None, _) => DVec3::ZERO,
         },
@@ -211,9 +221,22 @@ pub fn fit(
     }
     let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
     // A term that is zero over the region (a light that does not reach it) cannot explain it.
-    let usable: Vec<bool> = cols.iter().map(|c| dot(c, c) > 1e-12 * c.len() as f64).collect();
+    let usable: Vec<bool> = cols
+        .iter()
+        .map(|c| dot(c, c) > 1e-12 * c.len() as f64)
+        .collect();
     let gram: Vec<Vec<f64>> = (0..k)
-        .map(|i| (0..k).map(|j| if usable[i] && usable[j] { dot(&cols[i], &cols[j]) } else { 0.0 }).collect())
+        .map(|i| {
+            (0..k)
+                .map(|j| {
+                    if usable[i] && usable[j] {
+                        dot(&cols[i], &cols[j])
+                    } else {
+                        0.0
+                    }
+                })
+                .collect()
+        })
         .collect();
     let rhs: Vec<f64> = cols.iter().map(|c| dot(c, &d)).collect();
     // Residual sum of squares of the least-squares fit on `set`, and its coefficients.

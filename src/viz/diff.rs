@@ -15,16 +15,17 @@ pub const HEAT_LEVELS: f64 = 64.0;
 /// shrunk.
 const PANEL: u32 = 300;
 
-
 /// What the table says of a region's best mistake.
 pub fn best_mistake(scene: &Scene, g: &crate::diff::Region) -> String {
-    g.mistakes.first().map_or("(none of the catalogue)".into(), |f| {
-        format!(
-            "{} ({:.0} %)",
-            crate::diff::suspects::added(scene, f).join(" + "),
-            100.0 * f.explained
-        )
-    })
+    g.mistakes
+        .first()
+        .map_or("(none of the catalogue)".into(), |f| {
+            format!(
+                "{} ({:.0} %)",
+                crate::diff::suspects::added(scene, f).join(" + "),
+                100.0 * f.explained
+            )
+        })
 }
 
 /// Draws the figure.
@@ -65,7 +66,14 @@ pub fn figure(scene: &Scene, expected: &RgbImage, yours: &RgbImage, rep: &Report
     let mark = style::rgb(0, 200, 255);
 
     // The table, measured first so the figure is as wide as it needs.
-    let head = ["region", "pixels", "objects", "yours − expected", "best term", "best mistake"];
+    let head = [
+        "region",
+        "pixels",
+        "objects",
+        "yours − expected",
+        "best term",
+        "best mistake",
+    ];
     let rows: Vec<[String; 6]> = rep
         .regions
         .iter()
@@ -78,7 +86,11 @@ pub fn figure(scene: &Scene, expected: &RgbImage, yours: &RgbImage, rep: &Report
                 report::difference_words(g.mean_difference),
                 match g.fit.terms.first() {
                     Some(t) if g.fit.explained >= report::WELL_EXPLAINED => {
-                        format!("{} ({:.0} %)", terms::sentence(scene, t), 100.0 * t.explained)
+                        format!(
+                            "{} ({:.0} %)",
+                            terms::sentence(scene, t),
+                            100.0 * t.explained
+                        )
                     }
                     _ => "(no lighting term explains it)".into(),
                 },
@@ -103,7 +115,11 @@ pub fn figure(scene: &Scene, expected: &RgbImage, yours: &RgbImage, rep: &Report
         .fold(0.0, f32::max);
     let table_w = col_w.iter().sum::<f32>().max(explain_w) as u32;
     let row_h = 34u32;
-    let table_h = if rows.is_empty() { 0 } else { 22 + row_h * rows.len() as u32 + 8 };
+    let table_h = if rows.is_empty() {
+        0
+    } else {
+        22 + row_h * rows.len() as u32 + 8
+    };
     let title_h = 24u32;
     let width = margin * 2 + (3 * pw + 2 * gap).max(table_w);
     let height = margin + title_h + label_h + ph + 28 + table_h + margin;
@@ -116,11 +132,18 @@ pub fn figure(scene: &Scene, expected: &RgbImage, yours: &RgbImage, rep: &Report
         m.diff_percent,
         m.tolerance,
         m.max,
-        m.psnr.map_or("identical".into(), |p| format!("PSNR {p:.1} dB")),
+        m.psnr
+            .map_or("identical".into(), |p| format!("PSNR {p:.1} dB")),
         rep.regions_found,
         if rep.regions_found == 1 { "" } else { "s" }
     );
-    c.text((margin as f32, (margin + title_h / 2) as f32), &verdict, 14.0, ink, Anchor::Left);
+    c.text(
+        (margin as f32, (margin + title_h / 2) as f32),
+        &verdict,
+        14.0,
+        ink,
+        Anchor::Left,
+    );
     let top = margin + title_h;
     let panels = [
         ("expected", shown(expected)),
@@ -130,7 +153,13 @@ pub fn figure(scene: &Scene, expected: &RgbImage, yours: &RgbImage, rep: &Report
     for (i, (label, img)) in panels.iter().enumerate() {
         let x0 = margin + i as u32 * (pw + gap);
         let sz = (13.0 * pw as f32 / Canvas::text_width(label, 13.0)).min(13.0);
-        c.text(((x0 + pw / 2) as f32, (top + label_h / 2) as f32), label, sz, ink, Anchor::Center);
+        c.text(
+            ((x0 + pw / 2) as f32, (top + label_h / 2) as f32),
+            label,
+            sz,
+            ink,
+            Anchor::Center,
+        );
         let y0 = top + label_h;
         c.image((x0 as i32, y0 as i32), img, up);
         if i == 0 {
@@ -143,14 +172,29 @@ pub fn figure(scene: &Scene, expected: &RgbImage, yours: &RgbImage, rep: &Report
                 ((b[2] - b[0] + 1) as f32 * f).max(3.0),
                 ((b[3] - b[1] + 1) as f32 * f).max(3.0),
             );
-            c.rect((rx - 1.5, ry - 1.5), (rw + 3.0, rh + 3.0), Some((mark, 1.5)), None);
+            c.rect(
+                (rx - 1.5, ry - 1.5),
+                (rw + 3.0, rh + 3.0),
+                Some((mark, 1.5)),
+                None,
+            );
             let n = (k + 1).to_string();
             let tw = Canvas::text_width(&n, 11.0) + 6.0;
             // The number on a tab at the box's top-left corner, inside the panel.
             let tx = (rx - 1.5).min((x0 + pw) as f32 - tw).max(x0 as f32);
-            let ty = if ry - 15.0 >= y0 as f32 { ry - 15.0 } else { ry };
+            let ty = if ry - 15.0 >= y0 as f32 {
+                ry - 15.0
+            } else {
+                ry
+            };
             c.rect((tx, ty), (tw, 13.0), None, Some(mark));
-            c.text((tx + 3.0, ty + 6.5), &n, 11.0, style::rgb(0, 0, 0), Anchor::Left);
+            c.text(
+                (tx + 3.0, ty + 6.5),
+                &n,
+                11.0,
+                style::rgb(0, 0, 0),
+                Anchor::Left,
+            );
         }
     }
 
@@ -174,7 +218,13 @@ pub fn figure(scene: &Scene, expected: &RgbImage, yours: &RgbImage, rep: &Report
         for (k, t) in row.iter().enumerate() {
             c.text((x_at(k), y as f32 + 9.0), t, size, ink, Anchor::Left);
         }
-        c.text((x_at(1), y as f32 + 24.0), &g.explain, 11.0, muted, Anchor::Left);
+        c.text(
+            (x_at(1), y as f32 + 24.0),
+            &g.explain,
+            11.0,
+            muted,
+            Anchor::Left,
+        );
         y += row_h;
     }
     c
