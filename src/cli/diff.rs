@@ -39,58 +39,6 @@ pub struct Args {
     pub threads: Option<usize>,
 }
 
-/// A path as a shell word (quoted when it needs to be).
-fn shell_word(s: &str) -> String {
-    if !s.is_empty()
-        && s.chars()
-            .all(|c| c.is_ascii_alphanumeric() || "-_./,=+:".contains(c))
-    {
-        s.to_string()
-    } else {
-        format!("'{}'", s.replace('\'', "'\\''"))
-    }
-}
-
-/// The render options again as flags, so the printed `rtlab explain` command sees the same
-/// image (a new [`RenderArgs`] field needs a line here).
-pub fn render_flags(r: &RenderArgs) -> String {
-    let mut f = String::new();
-    let mut opt = |name: &str, v: Option<String>| {
-        if let Some(v) = v {
-            f += &format!(" --{name} {}", shell_word(&v));
-        }
-    };
-    opt("width", r.width.map(|v| v.to_string()));
-    opt("height", r.height.map(|v| v.to_string()));
-    opt("spp", r.spp.map(|v| v.to_string()));
-    opt("sampler", r.sampler.clone());
-    opt("filter", r.filter.clone());
-    opt("subsample", r.subsample.map(|v| v.to_string()));
-    opt(
-        "adaptive-threshold",
-        r.adaptive_threshold.map(|v| v.to_string()),
-    );
-    opt("max-depth", r.max_depth.map(|v| v.to_string()));
-    opt("seed", r.seed.map(|v| v.to_string()));
-    opt("encoding", r.encoding.clone());
-    opt("accel", r.accel.clone());
-    for m in &r.mistakes {
-        opt("mistake", Some(m.clone()));
-    }
-    for (on, name) in [
-        (r.no_shadows, "no-shadows"),
-        (r.no_reflections, "no-reflections"),
-        (r.no_refractions, "no-refractions"),
-        (r.no_textures, "no-textures"),
-        (r.no_depth_of_field, "no-depth-of-field"),
-    ] {
-        if on {
-            f += &format!(" --{name}");
-        }
-    }
-    f
-}
-
 fn size_error(path: &Path, img: &image::RgbImage, what: &str, w: u32, h: u32) -> Error {
     Error::io(
         path,
@@ -157,7 +105,7 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<Outcome> {
                 crate::sampling::render(&scene, &scene.render, false, None)
             })?;
             crate::interrupt::check()?;
-            r.image.to_rgb8(scene.render.encoding)
+            r.image.to_rgb8_for(&scene.render)
         }
     };
     let opts = Options {
@@ -165,9 +113,9 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<Outcome> {
         max_percent: args.max_percent,
         explain: format!(
             "rtlab explain {}",
-            shell_word(&args.scene.display().to_string())
+            super::shell_word(&args.scene.display().to_string())
         ),
-        explain_flags: render_flags(&args.render),
+        explain_flags: args.render.to_flags(),
         ..Options::default()
     };
     let rep = with_threads(args.threads, || {

@@ -212,6 +212,86 @@ pub struct RenderArgs {
 }
 
 impl RenderArgs {
+    /// These options again as command-line flags (" --spp 4 --no-shadows"), so a printed
+    /// `rtlab explain` command sees the same image. The destructuring is exhaustive: a new
+    /// option does not compile until it is written back here too.
+    pub fn to_flags(&self) -> String {
+        let RenderArgs {
+            width,
+            height,
+            spp,
+            sampler,
+            filter,
+            subsample,
+            adaptive_threshold,
+            max_depth,
+            seed,
+            encoding,
+            accel,
+            traversal,
+            no_shadows,
+            no_reflections,
+            no_refractions,
+            no_textures,
+            no_depth_of_field,
+            max_rays,
+            course_stage,
+            texture_filter,
+            shadows,
+            reflections,
+            refractions,
+            textures,
+            depth_of_field,
+            quiet: _,
+            mistakes,
+        } = self;
+        let mut f = String::new();
+        let mut opt = |name: &str, v: Option<String>| {
+            if let Some(v) = v {
+                f += &format!(" --{name} {}", shell_word(&v));
+            }
+        };
+        let text = |v: &Option<u32>| v.map(|v| v.to_string());
+        opt("width", text(width));
+        opt("height", text(height));
+        opt("spp", text(spp));
+        opt("sampler", sampler.clone());
+        opt("filter", filter.clone());
+        opt("subsample", text(subsample));
+        opt(
+            "adaptive-threshold",
+            adaptive_threshold.map(|v| v.to_string()),
+        );
+        opt("max-depth", text(max_depth));
+        opt("seed", seed.map(|v| v.to_string()));
+        opt("encoding", encoding.clone());
+        opt("accel", accel.clone());
+        opt("traversal", traversal.clone());
+        opt("max-rays", max_rays.map(|v| v.to_string()));
+        opt("course-stage", course_stage.clone());
+        opt("texture-filter", texture_filter.clone());
+        for m in mistakes {
+            opt("mistake", Some(m.clone()));
+        }
+        for (on, name) in [
+            (*no_shadows, "no-shadows"),
+            (*no_reflections, "no-reflections"),
+            (*no_refractions, "no-refractions"),
+            (*no_textures, "no-textures"),
+            (*no_depth_of_field, "no-depth-of-field"),
+            (*shadows, "shadows"),
+            (*reflections, "reflections"),
+            (*refractions, "refractions"),
+            (*textures, "textures"),
+            (*depth_of_field, "depth-of-field"),
+        ] {
+            if on {
+                f += &format!(" --{name}");
+            }
+        }
+        f
+    }
+
     /// Refuses, before anything is allocated, a render of `spp` samples per pixel that would
     /// not fit in memory; the message names the arguments when they set the size.
     pub fn check_memory(&self, scene: &Scene, path: &std::path::Path, spp: u32) -> Result<()> {
@@ -491,4 +571,16 @@ pub fn default_output(scene: &std::path::Path, out: Option<PathBuf>, suffix: &st
             .unwrap_or("render");
         PathBuf::from(format!("{stem}{suffix}.png"))
     })
+}
+
+/// A word as a shell would need it written: as it is when it is plain, else single-quoted.
+pub fn shell_word(s: &str) -> String {
+    if !s.is_empty()
+        && s.chars()
+            .all(|c| c.is_ascii_alphanumeric() || "-_./,=+:".contains(c))
+    {
+        s.to_string()
+    } else {
+        format!("'{}'", s.replace('\'', "'\\''"))
+    }
 }

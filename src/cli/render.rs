@@ -351,37 +351,9 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
 /// The `rtlab explain` command that traces sample `k` of pixel (x, y) as this render did:
 /// the scene and every option given that changes a pixel.
 fn explain_command(args: &Args, x: u32, y: u32, k: u32) -> String {
-    let r = &args.render;
-    let mut c = format!("rtlab explain {} --pixel {x},{y}", args.scene.display());
-    let mut opt = |name: &str, v: Option<String>| {
-        if let Some(v) = v {
-            c += &format!(" --{name} {v}");
-        }
-    };
-    opt("sample", Some(k.to_string()));
-    opt("width", r.width.map(|v| v.to_string()));
-    opt("height", r.height.map(|v| v.to_string()));
-    opt("spp", r.spp.map(|v| v.to_string()));
-    opt("sampler", r.sampler.clone());
-    opt("subsample", r.subsample.map(|v| v.to_string()));
-    opt(
-        "adaptive-threshold",
-        r.adaptive_threshold.map(|v| v.to_string()),
-    );
-    opt("max-depth", r.max_depth.map(|v| v.to_string()));
-    opt("seed", r.seed.map(|v| v.to_string()));
-    opt("max-rays", r.max_rays.map(|v| v.to_string()));
-    for (on, flag) in [
-        (r.no_shadows, "--no-shadows"),
-        (r.no_reflections, "--no-reflections"),
-        (r.no_refractions, "--no-refractions"),
-        (r.no_textures, "--no-textures"),
-        (r.no_depth_of_field, "--no-depth-of-field"),
-    ] {
-        if on {
-            c += " ";
-            c += flag;
-        }
-    }
-    c
+    format!(
+        "rtlab explain {} --pixel {x},{y} --sample {k}{}",
+        super::shell_word(&args.scene.display().to_string()),
+        args.render.to_flags()
+    )
 }

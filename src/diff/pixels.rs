@@ -11,6 +11,7 @@ use crate::trace::{trace_sample, HitInfo, RayKind, Recorder};
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
+// ANCHOR: trace_pixels
 /// One traced pixel: its colour and, for each sample that reached it, the sample's normalised
 /// filter weight and what the recorder kept.
 pub struct TracedPixel<T> {
@@ -80,6 +81,7 @@ pub fn trace_pixels<R: Recorder, T: Send + Sync + Clone>(
         })
         .collect()
 }
+// ANCHOR_END: trace_pixels
 
 /// What the camera ray's own hit saw, term by term: the lighting ledger of one sample, as
 /// `explain`'s shading node shows it.
@@ -243,6 +245,6 @@ pub fn hits(
 pub fn bytes(scene: &Scene, settings: &RenderSettings, pixels: &[(u32, u32)]) -> Vec<[u8; 3]> {
     colors(scene, settings, pixels)
         .into_iter()
-        .map(|c| crate::sampling::encode(c, settings.encoding))
+        .map(|c| crate::sampling::encode_as(c, settings.encoding, settings.mistakes))
         .collect()
 }

@@ -25,21 +25,52 @@ fn round(x: f64, digits: i32) -> f64 {
 }
 
 /// The mistakes the regions point at, over the whole image: each region's best one, with
-/// the regions (numbered from 1) and pixels it explains; most pixels first.
+/// the regions (numbered from 1) and pixels it explains; most pixels first. Where mistakes tie
+/// in a region (they make the same image there), the one that is best in the most pixels over
+/// the image names it: one mistake made everywhere, rather than two that look alike.
 pub fn diagnosis(scene: &Scene, r: &Report) -> Vec<(Vec<&'static str>, Vec<usize>, usize)> {
+    // Per region, the names of its best suspects (all within a hair of the best).
+    let tied: Vec<Vec<Vec<&'static str>>> = r
+        .regions
+        .iter()
+        .map(|g| match g.mistakes.first() {
+            None => Vec::new(),
+            Some(best) => g
+                .mistakes
+                .iter()
+                .filter(|f| f.explained >= best.explained - 1e-6)
+                .map(|f| super::suspects::added(scene, f))
+                .collect(),
+        })
+        .collect();
+    let mut left: Vec<usize> = (0..r.regions.len())
+        .filter(|&i| !tied[i].is_empty())
+        .collect();
     let mut out: Vec<(Vec<&'static str>, Vec<usize>, usize)> = Vec::new();
-    for (i, g) in r.regions.iter().enumerate() {
-        let Some(best) = g.mistakes.first() else {
-            continue;
-        };
-        let names = super::suspects::added(scene, best);
-        match out.iter_mut().find(|d| d.0 == names) {
-            Some(d) => {
-                d.1.push(i + 1);
-                d.2 += g.members.len();
+    while !left.is_empty() {
+        // The suspect best in the most pixels of the regions not yet named; the earlier
+        // region's first on a tie.
+        let mut pick: Option<(Vec<&'static str>, usize)> = None;
+        for &i in &left {
+            for names in &tied[i] {
+                let pixels: usize = left
+                    .iter()
+                    .filter(|&&j| tied[j].contains(names))
+                    .map(|&j| r.regions[j].members.len())
+                    .sum();
+                if pick.as_ref().is_none_or(|p| pixels > p.1) {
+                    pick = Some((names.clone(), pixels));
+                }
             }
-            None => out.push((names, vec![i + 1], g.members.len())),
         }
+        let (names, pixels) = pick.expect("a region left has suspects");
+        let regions: Vec<usize> = left
+            .iter()
+            .filter(|&&j| tied[j].contains(&names))
+            .map(|j| j + 1)
+            .collect();
+        left.retain(|j| !tied[*j].contains(&names));
+        out.push((names, regions, pixels));
     }
     out.sort_by_key(|d| std::cmp::Reverse(d.2));
     out
@@ -93,6 +124,10 @@ pub fn to_json(scene: &Scene, r: &Report) -> Value {
         "regions": regions,
     })
 }
+
+/// A term fit that explains less than this share of a region is not shown to people (the
+/// JSON still has it): the difference is not one of lighting.
+pub const WELL_EXPLAINED: f64 = 0.5;
 
 fn count(n: usize) -> String {
     let s = n.to_string();
@@ -184,15 +219,20 @@ pub fn to_text(scene: &Scene, r: &Report, max_percent: f64) -> String {
             objects_words(g),
             difference_words(g.mean_difference),
         );
-        for t in &g.fit.terms {
+        if g.fit.explained < WELL_EXPLAINED {
+            s += "  term: no term of the lighting ledger explains most of it (the geometry, the camera or the bytes differ)\n";
+        }
+        for t in g
+            .fit
+            .terms
+            .iter()
+            .filter(|_| g.fit.explained >= WELL_EXPLAINED)
+        {
             s += &format!(
                 "  term: {} ({:.0} % of the difference)\n",
                 terms::sentence(scene, t),
                 100.0 * t.explained
             );
-        }
-        if g.fit.terms.is_empty() {
-            s += "  term: no term of the ledger explains this difference\n";
         }
         match g.mistakes.first() {
             Some(f) => {

@@ -20,7 +20,11 @@ pub struct MistakeFit {
 /// Suspects reported per region, and the least share of the difference one must explain.
 const REPORTED: usize = 3;
 const MIN_EXPLAINED: f64 = 0.2;
-/// Singles whose pairs are tried, and what a pair must add over its better half.
+/// Pairs tried: each of the `FORWARD` best singles, and of the `FORWARD` that point the most
+/// the right way, with every other mistake, and the
+/// `PAIRED` singles that point the most the right way with each other; a pair must add
+/// `PAIR_GAIN` over its better half.
+const FORWARD: usize = 2;
 const PAIRED: usize = 4;
 const PAIR_GAIN: f64 = 0.05;
 
@@ -52,43 +56,78 @@ pub fn search(
     if total <= 0.0 {
         return Vec::new();
     }
-    let score = |set: Mistakes| -> f64 {
+    // How much of the difference a set removes, and how well the change it makes points
+    // the right way (cos² between the change and the difference: a half of a pair of
+    // mistakes points the right way without explaining it all).
+    let score = |set: Mistakes| -> (f64, f64) {
         let mut s = scene.render.clone();
         s.mistakes = set;
         let got = pixels::bytes(scene, &s, scored);
-        1.0 - sq(&want, &got) / total
+        let (mut dot, mut moved) = (0.0, 0.0);
+        for ((g, e), y) in got.iter().zip(&was).zip(&want) {
+            for c in 0..3 {
+                let m = g[c] as f64 - e[c] as f64;
+                dot += m * (y[c] as f64 - e[c] as f64);
+                moved += m * m;
+            }
+        }
+        let cos2 = if moved > 0.0 && dot > 0.0 {
+            dot * dot / (moved * total)
+        } else {
+            0.0
+        };
+        (1.0 - sq(&want, &got) / total, cos2)
     };
-    let mut singles: Vec<MistakeFit> = Mistake::ALL
+    let singles: Vec<(Mistake, f64, f64)> = Mistake::ALL
         .iter()
         .filter(|m| !base.has(**m))
         .map(|&m| {
-            let set = base.iter().chain([m]).collect();
-            MistakeFit {
-                mistakes: set,
-                explained: score(set),
-            }
+            let (e, c) = score(base.with(m));
+            (m, e, c)
         })
         .collect();
-    singles.sort_by(|a, b| b.explained.total_cmp(&a.explained));
-    let top: Vec<&MistakeFit> = singles
-        .iter()
-        .filter(|f| f.explained > 0.0)
-        .take(PAIRED)
-        .collect();
-    let mut all = singles.clone();
-    for i in 0..top.len() {
-        for j in i + 1..top.len() {
-            let set: Mistakes = top[i]
-                .mistakes
-                .iter()
-                .chain(top[j].mistakes.iter())
-                .collect();
-            let explained = score(set);
-            if explained >= top[i].explained.max(top[j].explained) + PAIR_GAIN {
-                all.push(MistakeFit {
-                    mistakes: set,
-                    explained,
-                });
+    let fit = |set: Mistakes, explained: f64| MistakeFit {
+        mistakes: set,
+        explained,
+    };
+    let mut all: Vec<MistakeFit> = singles.iter().map(|s| fit(base.with(s.0), s.1)).collect();
+    let by = |key: fn(&(Mistake, f64, f64)) -> f64| {
+        let mut v: Vec<&(Mistake, f64, f64)> = singles.iter().filter(|s| key(s) > 0.0).collect();
+        v.sort_by(|a, b| key(b).total_cmp(&key(a)).then(a.0.cmp(&b.0)));
+        v.into_iter().map(|s| s.0).collect::<Vec<Mistake>>()
+    };
+    let best = by(|s| s.1);
+    if best
+        .first()
+        .is_none_or(|m| singles.iter().any(|s| s.0 == *m && s.1 < 0.98))
+    {
+        // Pairs: the best singles with every other mistake (forward selection), and the
+        // singles that point the right way with each other.
+        let mut pairs: Vec<(Mistake, Mistake)> = Vec::new();
+        let pointing = by(|s| s.2);
+        let leads = best
+            .iter()
+            .take(FORWARD)
+            .chain(pointing.iter().take(FORWARD));
+        for &a in leads {
+            for s in &singles {
+                pairs.push((a.min(s.0), a.max(s.0)));
+            }
+        }
+        for (i, &a) in pointing.iter().take(PAIRED).enumerate() {
+            for &b in pointing.iter().take(PAIRED).skip(i + 1) {
+                pairs.push((a.min(b), a.max(b)));
+            }
+        }
+        pairs.retain(|p| p.0 != p.1);
+        pairs.sort();
+        pairs.dedup();
+        let alone = |m: Mistake| singles.iter().find(|s| s.0 == m).map_or(0.0, |s| s.1);
+        for (a, b) in pairs {
+            let set = base.with(a).with(b);
+            let (explained, _) = score(set);
+            if explained >= alone(a).max(alone(b)) + PAIR_GAIN {
+                all.push(fit(set, explained));
             }
         }
     }

@@ -333,6 +333,7 @@ pub fn sentence(scene: &Scene, t: &TermFit) -> String {
     let c = t.coefficient;
     let whole = (c.abs() - 1.0).abs() < 0.15;
     let more = c > 0.0;
+    let every = t.term.light.is_none();
     let what = match t.term.kind {
         TermKind::Ambient => "ambient".to_string(),
         TermKind::Reflected => "reflected colour".to_string(),
@@ -353,11 +354,15 @@ pub fn sentence(scene: &Scene, t: &TermFit) -> String {
         (TermKind::Specular, false) if whole => "your highlights are missing",
         (TermKind::Specular, false) => "your highlights are too weak",
         (TermKind::Specular, true) => "your highlights are too strong",
+        (TermKind::Diffuse, false) if whole && every => "the lights' diffuse shading is missing",
         (TermKind::Diffuse, false) if whole => "this light's diffuse shading is missing",
         (TermKind::Diffuse, false) => "your diffuse shading is too dark",
         (TermKind::Diffuse, true) => "your diffuse shading is too bright",
+        (TermKind::Light, false) if whole && every => "no light reaches your surface",
         (TermKind::Light, false) if whole => "this light does not reach your surface",
+        (TermKind::Light, false) if every => "the lights are too weak in your image",
         (TermKind::Light, false) => "this light is too weak in your image",
+        (TermKind::Light, true) if every => "the lights are too strong in your image",
         (TermKind::Light, true) => "this light is too strong in your image",
         (TermKind::Ambient, false) => "your ambient term is too weak or missing",
         (TermKind::Ambient, true) => "your ambient term is too strong",

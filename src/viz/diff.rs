@@ -39,7 +39,7 @@ pub fn figure(scene: &Scene, expected: &RgbImage, yours: &RgbImage, rep: &Report
     let heat = heat_map(&diff, iw, ih, HEAT_LEVELS);
     // Magnify by a whole factor, or shrink by one (box-filtered) to about PANEL pixels.
     let (up, down) = if iw <= PANEL {
-        ((PANEL / iw).max(1), 1)
+        (((PANEL + iw / 2) / iw).max(1), 1)
     } else {
         (1, iw.div_ceil(PANEL))
     };
@@ -84,13 +84,16 @@ pub fn figure(scene: &Scene, expected: &RgbImage, yours: &RgbImage, rep: &Report
                 g.members.len().to_string(),
                 report::objects_words(g),
                 report::difference_words(g.mean_difference),
-                g.fit.terms.first().map_or("(none fits)".into(), |t| {
-                    format!(
-                        "{} ({:.0} %)",
-                        terms::sentence(scene, t),
-                        100.0 * t.explained
-                    )
-                }),
+                match g.fit.terms.first() {
+                    Some(t) if g.fit.explained >= report::WELL_EXPLAINED => {
+                        format!(
+                            "{} ({:.0} %)",
+                            terms::sentence(scene, t),
+                            100.0 * t.explained
+                        )
+                    }
+                    _ => "(no lighting term explains it)".into(),
+                },
                 best_mistake(scene, g),
             ]
         })

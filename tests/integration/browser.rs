@@ -69,8 +69,11 @@ impl Driver {
 
 impl Drop for Driver {
     fn drop(&mut self) {
+        // The whole process group (chromedriver and the Chromium it started). The `--` is
+        // needed: procps' kill reads `-TERM -15637` as a signal to group -1, that is to every
+        // process there is (seen here; it ended the test run and all beside it).
         let _ = Command::new("kill")
-            .arg("-TERM")
+            .args(["-TERM", "--"])
             .arg(format!("-{}", self.child.id()))
             .status();
         let _ = self.child.kill();

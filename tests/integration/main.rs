@@ -8,6 +8,7 @@ mod common;
 mod course;
 mod cs1230;
 mod csg;
+mod diff;
 mod errors;
 mod explain;
 mod intersect;
