@@ -165,7 +165,7 @@ impl Mistake {
     pub fn nearest(name: &str) -> Mistake {
         *Mistake::ALL
             .iter()
-            .min_by_key(|m| edit_distance(name, m.name()))
+            .min_by_key(|m| crate::error::edit_distance(name, m.name()))
             .expect("the catalogue is not empty")
     }
 
@@ -246,22 +246,6 @@ impl FromIterator<Mistake> for Mistakes {
     fn from_iter<I: IntoIterator<Item = Mistake>>(iter: I) -> Self {
         iter.into_iter().fold(Mistakes::NONE, Mistakes::with)
     }
-}
-
-/// Levenshtein distance over chars.
-fn edit_distance(a: &str, b: &str) -> usize {
-    let b: Vec<char> = b.chars().collect();
-    let mut row: Vec<usize> = (0..=b.len()).collect();
-    for (i, ca) in a.chars().enumerate() {
-        let mut prev = row[0];
-        row[0] = i + 1;
-        for (j, cb) in b.iter().enumerate() {
-            let cur = row[j + 1];
-            row[j + 1] = (prev + usize::from(ca != *cb)).min(row[j] + 1).min(cur + 1);
-            prev = cur;
-        }
-    }
-    row[b.len()]
 }
 
 #[cfg(test)]
