@@ -55,6 +55,7 @@ fn main() {
         let scene = root.join(rel);
         let running = rtlab::server::start(rtlab::server::Options {
             loader: loader(scene.clone(), RenderArgs::default()),
+            flags: rtlab::cli::serve::flags(RenderArgs::default()),
             options: option_infos(),
             scene: scene.clone(),
             host: None,

@@ -573,14 +573,4 @@ pub fn default_output(scene: &std::path::Path, out: Option<PathBuf>, suffix: &st
     })
 }
 
-/// A word as a shell would need it written: as it is when it is plain, else single-quoted.
-pub fn shell_word(s: &str) -> String {
-    if !s.is_empty()
-        && s.chars()
-            .all(|c| c.is_ascii_alphanumeric() || "-_./,=+:".contains(c))
-    {
-        s.to_string()
-    } else {
-        format!("'{}'", s.replace('\'', "'\\''"))
-    }
-}
+pub use crate::report::shell_word;

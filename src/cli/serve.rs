@@ -5,7 +5,7 @@
 
 use super::RenderArgs;
 use crate::error::{Error, Result};
-use crate::server::{Loader, OptionInfo, Options};
+use crate::server::{Flags, Loader, OptionInfo, Options};
 use clap::{CommandFactory, Parser};
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -62,6 +62,19 @@ pub fn loader(scene: PathBuf, base: RenderArgs) -> Loader {
 
 /// The render options as the page's controls, from the parser itself (a new option appears
 /// on the page by itself).
+/// The request's render options (over the server's) as command-line flags, as `rtlab diff`
+/// writes them into its explain commands.
+pub fn flags(base: RenderArgs) -> Flags {
+    Arc::new(move |words: &[String]| {
+        let mut a = RequestArgs {
+            render: base.clone(),
+        };
+        a.try_update_from(words)
+            .map_err(|e| Error::Other(e.kind().to_string()))?;
+        Ok(a.render.to_flags())
+    })
+}
+
 pub fn option_infos() -> Vec<OptionInfo> {
     let cmd = RequestArgs::command();
     let choices = |name: &str| -> Vec<String> {
@@ -105,6 +118,7 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
     }
     let running = crate::server::start(Options {
         loader: loader(args.scene.clone(), args.render.clone()),
+        flags: flags(args.render.clone()),
         options: option_infos(),
         scene: args.scene.clone(),
         host: args.host.clone(),

@@ -17,13 +17,14 @@
 //! | [`watch`] | live scene: polls the scene file and tells the page |
 
 pub mod assets;
+pub mod diff;
 pub mod params;
 pub mod routes;
-pub mod security;
+mod security;
 pub mod state;
 pub mod watch;
 
-pub use state::{Loader, OptionInfo};
+pub use state::{Flags, Loader, OptionInfo};
 
 use crate::error::{Error, Result};
 use std::net::SocketAddr;
@@ -39,6 +40,8 @@ pub struct Options {
     pub port: u16,
     /// Loads the scene with the given render-option words (base options already applied).
     pub loader: Loader,
+    /// The words as command-line flags (for the explain commands of a diff report).
+    pub flags: Flags,
     /// The render options, for the page's controls.
     pub options: Vec<OptionInfo>,
 }

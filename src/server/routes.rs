@@ -17,10 +17,10 @@ use axum::routing::get;
 use axum::Router;
 use std::sync::Arc;
 
-type St = axum::extract::State<Arc<State>>;
+pub(super) type St = axum::extract::State<Arc<State>>;
 
 /// What a handler's work produced: (content type, bytes) or an answer with a status.
-type Answer = std::result::Result<(&'static str, Vec<u8>), Fail>;
+pub(super) type Answer = std::result::Result<(&'static str, Vec<u8>), Fail>;
 
 pub enum Fail {
     Error(Error),
@@ -44,6 +44,12 @@ pub fn router(state: Arc<State>) -> Router {
         .route("/api/steps", get(steps))
         .route("/api/steps/frame.png", get(step_frame))
         .route("/api/events", get(events))
+        .route(
+            "/api/diff",
+            axum::routing::post(super::diff::diff).layer(axum::extract::DefaultBodyLimit::max(
+                super::diff::MAX_UPLOAD,
+            )),
+        )
         .fallback(asset)
         .layer(axum::middleware::from_fn_with_state(
             state.clone(),
@@ -60,7 +66,7 @@ async fn asset(req: Request<Body>) -> Response {
 }
 
 /// Runs `work` on a blocking thread and turns its result into a response.
-async fn run<F>(state: Arc<State>, work: F) -> Response
+pub(super) async fn run<F>(state: Arc<State>, work: F) -> Response
 where
     F: FnOnce(&State) -> Answer + Send + 'static,
 {
@@ -93,7 +99,7 @@ where
 }
 
 /// Parses the query, answering 400 on a bad one.
-fn query(raw: &Option<String>, own: &[&str]) -> std::result::Result<Params, Response> {
+pub(super) fn query(raw: &Option<String>, own: &[&str]) -> std::result::Result<Params, Response> {
     params::parse(raw.as_deref(), own)
         .map_err(|e| super::security::refuse(StatusCode::BAD_REQUEST, &e.to_string()))
 }

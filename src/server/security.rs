@@ -36,8 +36,12 @@ pub async fn guard(
         }
         _ => {}
     }
-    if req.method() != Method::GET && req.method() != Method::HEAD {
-        return refuse(StatusCode::METHOD_NOT_ALLOWED, "only GET requests");
+    let upload = req.method() == Method::POST && req.uri().path() == "/api/diff";
+    if req.method() != Method::GET && req.method() != Method::HEAD && !upload {
+        return refuse(
+            StatusCode::METHOD_NOT_ALLOWED,
+            "only GET requests (and POST /api/diff with a PNG)",
+        );
     }
     if req.uri().to_string().len() > MAX_TARGET {
         return refuse(StatusCode::URI_TOO_LONG, "the request target is too long");

@@ -16,6 +16,10 @@ use std::time::SystemTime;
 /// options applied on top of the server's own (the CLI's parser and `RenderArgs::load`).
 pub type Loader = Arc<dyn Fn(&[String]) -> Result<Scene> + Send + Sync>;
 
+/// Turns the same words into the render options as command-line flags (the server's own
+/// first), for the `rtlab explain` commands a diff report prints.
+pub type Flags = Arc<dyn Fn(&[String]) -> Result<String> + Send + Sync>;
+
 /// One render option as the page shows it: a switch (a flag) or a field with a value.
 #[derive(Debug, Clone, Serialize)]
 pub struct OptionInfo {
@@ -50,6 +54,7 @@ pub struct Status {
 pub struct State {
     pub scene_path: PathBuf,
     pub loader: Loader,
+    pub flags: Flags,
     pub options: Vec<OptionInfo>,
     /// `Host` header values this server answers to.
     pub allowed_hosts: Vec<String>,
@@ -84,6 +89,7 @@ impl State {
         Ok(State {
             scene_path: opts.scene.clone(),
             loader: opts.loader.clone(),
+            flags: opts.flags.clone(),
             options: opts.options.clone(),
             allowed_hosts: allowed,
             cache: Mutex::new(vec![(Vec::new(), stamp(&opts.scene), Arc::new(scene))]),

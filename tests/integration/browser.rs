@@ -339,6 +339,44 @@ fn the_page_in_a_real_browser() {
         .await;
         assert!(count.as_str().unwrap().contains("pixels differ"), "{count}");
         screenshot(&c, "serve-compare.png").await;
+
+        // Diff: drop your image (here: the scene rendered with a mistake) → regions and
+        // causes; a region's button shows its pixel in Explore.
+        c.find(Locator::Css("nav button[data-mode='diff']"))
+            .await
+            .unwrap()
+            .click()
+            .await
+            .unwrap();
+        c.execute(
+            "fetch('/api/render.png?' + join(renderQuery(), 'mistake=blinn-phong')).then((r) => r.blob()).then((b) => window.rtlabDiff(new File([b], 'yours.png', { type: 'image/png' })));",
+            vec![],
+        )
+        .await
+        .unwrap();
+        let verdict = wait_js(
+            &c,
+            "const f = document.getElementById('diff-figure'); return !document.getElementById('diff-result').hidden && f.complete && f.naturalWidth > 0 ? document.getElementById('diff-verdict').textContent + ' | ' + document.getElementById('diff-diagnosis').textContent : '';",
+            "the diff of an uploaded image",
+        )
+        .await;
+        let verdict = verdict.as_str().unwrap().to_string();
+        assert!(verdict.starts_with("different"), "{verdict}");
+        assert!(verdict.contains("blinn-phong"), "{verdict}");
+        screenshot(&c, "serve-diff.png").await;
+        c.find(Locator::Css("button.diff-show"))
+            .await
+            .unwrap()
+            .click()
+            .await
+            .unwrap();
+        let title = wait_js(
+            &c,
+            "const e = document.getElementById('explanation'); return e.hidden ? '' : document.getElementById('px-title').textContent;",
+            "the region's pixel explained",
+        )
+        .await;
+        assert!(title.as_str().unwrap().starts_with("Pixel ("), "{title}");
         c.find(Locator::Css("nav button[data-mode='explore']"))
             .await
             .unwrap()

@@ -52,10 +52,25 @@ impl Server {
     }
 
     /// Sends `request` as it is and reads the whole answer.
+    pub fn post(&self, target: &str, body: &[u8]) -> Reply {
+        let host = self.addr.clone();
+        let mut request = format!(
+            "POST {target} HTTP/1.1\r\nHost: {host}\r\nContent-Type: image/png\r\nContent-Length: {}\r\nConnection: close\r\n\r\n",
+            body.len()
+        )
+        .into_bytes();
+        request.extend_from_slice(body);
+        self.raw_bytes(&request)
+    }
+
     pub fn raw(&self, request: &str) -> Reply {
+        self.raw_bytes(request.as_bytes())
+    }
+
+    fn raw_bytes(&self, request: &[u8]) -> Reply {
         let mut s = TcpStream::connect(&self.addr).unwrap();
         s.set_read_timeout(Some(Duration::from_secs(300))).unwrap();
-        let _ = s.write_all(request.as_bytes());
+        let _ = s.write_all(request);
         let mut bytes = Vec::new();
         let _ = s.read_to_end(&mut bytes);
         Reply::parse(&bytes)
@@ -583,4 +598,97 @@ fn serve_refuses_what_cannot_be_served() {
         "an explicit --host warns: {}",
         stderr(&o)
     );
+}
+
+/// `POST /api/diff` answers what `rtlab diff --format json` prints for the same image and
+/// options (the explain commands included), the figure of `-o`, and the CLI's errors.
+#[test]
+fn diff_of_an_uploaded_image_is_the_clis() {
+    let scene = path("scenes/spheres.json");
+    let s = Server::start(&scene, &["--max-depth", "2"]);
+    let yours = tmp("serve-diff-yours.png");
+    let o = rtlab(&[
+        "render",
+        scene.to_str().unwrap(),
+        "--max-depth",
+        "2",
+        "--no-shadows",
+        "--mistake",
+        "blinn-phong",
+        "-q",
+        "-o",
+        yours.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let png = std::fs::read(&yours).unwrap();
+    let r = s.post("/api/diff?no-shadows&tolerance=3", &png);
+    assert_eq!(r.status, 200, "{}", r.text());
+    let o = rtlab(&[
+        "diff",
+        scene.to_str().unwrap(),
+        yours.to_str().unwrap(),
+        "--max-depth",
+        "2",
+        "--no-shadows",
+        "--tolerance",
+        "3",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert_eq!(r.text(), String::from_utf8_lossy(&o.stdout));
+    assert!(r.text().contains("\"blinn-phong\""), "{}", r.text());
+    assert!(
+        r.text().contains("--max-depth 2 --no-shadows"),
+        "{}",
+        r.text()
+    );
+
+    let fig = tmp("serve-diff-fig.png");
+    let o = rtlab(&[
+        "diff",
+        scene.to_str().unwrap(),
+        yours.to_str().unwrap(),
+        "--max-depth",
+        "2",
+        "--no-shadows",
+        "--tolerance",
+        "3",
+        "-o",
+        fig.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    let r = s.post("/api/diff?no-shadows&tolerance=3&format=png", &png);
+    assert_eq!(r.status, 200);
+    assert_eq!(
+        r.body,
+        std::fs::read(&fig).unwrap(),
+        "the figure differs from diff -o"
+    );
+
+    // Not a PNG, the wrong size, a bad option: 4xx with one line, never a panic.
+    let r = s.post("/api/diff", b"not an image");
+    assert!(
+        r.status == 422 || r.status == 400,
+        "{}: {}",
+        r.status,
+        r.text()
+    );
+    assert!(r.text().contains("your image"), "{}", r.text());
+    let r = s.post("/api/diff?width=100", &png);
+    assert!(r.status == 400 || r.status == 422, "{}", r.text());
+    assert!(
+        r.text().contains("480×360") || r.text().contains("100×"),
+        "{}",
+        r.text()
+    );
+    let r = s.post("/api/diff?tolerance=300", &png);
+    assert_eq!(r.status, 400, "{}", r.text());
+    // Only /api/diff takes a body.
+    let r = s.post("/api/explain?x=1&y=1", &png);
+    assert_eq!(r.status, 405, "{}", r.text());
+    // The upload is bounded.
+    let big = vec![0u8; 17 << 20];
+    let r = s.post("/api/diff", &big);
+    assert_eq!(r.status, 413, "{}", r.text());
 }

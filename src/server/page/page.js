@@ -503,11 +503,57 @@ async function runCompare() {
 }
 $("cmp-run").addEventListener("click", runCompare);
 
+// ---------------------------------------------------------------- diff
+async function runDiff(file) {
+  $("diff-error").textContent = "";
+  $("diff-result").hidden = true;
+  if (!file) return;
+  if (file.size > 16 * 1024 * 1024) { $("diff-error").textContent = "the image is larger than 16 MB"; return; }
+  const q = join(renderQuery(), "tolerance=" + encodeURIComponent($("diff-tolerance").value));
+  try {
+    const body = await file.arrayBuffer();
+    const post = (extra) => fetch("/api/diff?" + join(q, extra), { method: "POST", body, headers: { "Content-Type": "image/png" } });
+    const r = await post("");
+    const text = await r.text();
+    if (!r.ok) { $("diff-error").textContent = text; return; }
+    const rep = JSON.parse(text);
+    const m = rep.metrics;
+    $("diff-verdict").textContent = rep.verdict === "same"
+      ? `same: ${m.diff_percent} % of the pixels differ by more than ${m.tolerance} levels`
+      : `different: ${m.diff_percent} % of the pixels differ by more than ${m.tolerance} levels (largest ${m.max}); ${rep.regions_found} region(s)`;
+    $("diff-diagnosis").textContent = rep.diagnosis.length
+      ? "most likely: " + rep.diagnosis.map((d) => `${d.names.join(" + ")} (regions ${d.regions.join(", ")})`).join("; ")
+      : "";
+    const rows = rep.regions.map((g, i) => el("tr", {},
+      el("td", {}, String(i + 1)),
+      el("td", {}, String(g.pixels)),
+      el("td", {}, g.objects.map((o) => `${o.name} (${o.surfaces.join(", ")})`).join(", ")),
+      el("td", { class: "num" }, "(" + g.mean_difference.map((v) => (v > 0 ? "+" : "") + v).join(", ") + ")"),
+      el("td", {}, g.terms.length && g.terms_explained >= 0.5 ? `${g.terms[0].says} (${Math.round(100 * g.terms[0].explained)} %)` : "—"),
+      el("td", {}, g.mistakes.length ? `${g.mistakes[0].names.join(" + ")} (${Math.round(100 * g.mistakes[0].explained)} %)` : "—"),
+      el("td", {}, el("button", { type: "button", class: "diff-show", onclick: () => showPixel(g.pixel[0], g.pixel[1]) }, `explain ${g.pixel[0]},${g.pixel[1]}`))));
+    $("diff-regions").replaceChildren(rows.length ? el("table", {},
+      el("tr", {}, ...["region", "pixels", "objects", "yours − expected", "best term", "best mistake", "what it should be"].map((h) => el("th", {}, h))),
+      ...rows) : "");
+    $("diff-result").hidden = false;
+    const f = await post("format=png");
+    if (f.ok) $("diff-figure").src = URL.createObjectURL(await f.blob());
+  } catch (e) { $("diff-error").textContent = e.message; }
+}
+function showPixel(x, y) {
+  document.querySelector('nav button[data-mode="explore"]').click();
+  select(x, y);
+}
+$("diff-file").addEventListener("change", () => runDiff($("diff-file").files[0]));
+$("diff").addEventListener("dragover", (ev) => ev.preventDefault());
+$("diff").addEventListener("drop", (ev) => { ev.preventDefault(); runDiff(ev.dataTransfer.files[0]); });
+window.rtlabDiff = runDiff;
+
 // ---------------------------------------------------------------- modes, live scene
 for (const b of document.querySelectorAll("nav button")) {
   b.addEventListener("click", () => {
     document.querySelectorAll("nav button").forEach((x) => x.classList.toggle("on", x === b));
-    for (const m of ["explore", "steps", "compare"]) $(m).hidden = m !== b.dataset.mode;
+    for (const m of ["explore", "steps", "compare", "diff"]) $(m).hidden = m !== b.dataset.mode;
     if (b.dataset.mode === "steps") loadSteps();
     if (b.dataset.mode === "compare") runCompare();
     if (b.dataset.mode === "explore" && state.fitted) fit();
