@@ -10,6 +10,10 @@
 //!   visits every pixel's filter footprint);
 //! - and the full image after the switch, for scale.
 //!
+//! - in the browser (headless Chromium through chromedriver, when installed): a click on a
+//!   pixel until its explanation is on the page, timed inside the page with
+//!   `performance.now()` (target < 50 ms).
+//!
 //! `cargo bench --bench serve` (short: a few dozen requests per scene).
 
 use rtlab::cli::serve::{loader, option_infos};
@@ -116,6 +120,81 @@ fn main() {
         println!("  switch → first preview   {}", stats(&mut preview));
         println!("  (--subsample 8 preview   {})", stats(&mut subsampled));
         println!("  switch → full image      {}", stats(&mut full));
+        match browser_clicks(&running.url, w, h) {
+            Ok(mut v) => println!("  click → explanation, in the browser  {}", stats(&mut v)),
+            Err(why) => println!("  in the browser: not measured ({why})"),
+        }
         running.stop();
     }
+}
+
+/// Clicks 12 pixels in the page and times each until its explanation is shown, in the page.
+fn browser_clicks(url: &str, w: u32, h: u32) -> Result<Vec<f64>, String> {
+    use std::process::{Command, Stdio};
+    let driver = "/usr/bin/chromedriver";
+    if !std::path::Path::new(driver).exists() {
+        return Err("no chromedriver; bash .ci/deps installs it".into());
+    }
+    let port = std::net::TcpListener::bind("127.0.0.1:0")
+        .and_then(|l| l.local_addr())
+        .map_err(|e| e.to_string())?
+        .port();
+    let mut child = Command::new(driver)
+        .arg(format!("--port={port}"))
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .map_err(|e| e.to_string())?;
+    let t0 = Instant::now();
+    while TcpStream::connect(("127.0.0.1", port)).is_err() && t0.elapsed().as_secs() < 30 {
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+    let profile = std::env::temp_dir().join(format!("rtlab-bench-chromium-{}", std::process::id()));
+    let rt = tokio::runtime::Runtime::new().map_err(|e| e.to_string())?;
+    let result = rt.block_on(async {
+        let mut caps = serde_json::Map::new();
+        caps.insert(
+            "goog:chromeOptions".into(),
+            serde_json::json!({
+                "binary": "/usr/bin/chromium",
+                "args": ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic",
+                         "--no-first-run", "--disable-background-networking",
+                         "--disable-component-update", "--disable-sync",
+                         "--disable-dev-shm-usage", "--window-size=1500,1250",
+                         format!("--user-data-dir={}", profile.display())],
+            }),
+        );
+        let connector = hyper_util::client::legacy::connect::HttpConnector::new();
+        let c = fantoccini::ClientBuilder::new(connector)
+            .capabilities(caps)
+            .connect(&format!("http://127.0.0.1:{port}"))
+            .await
+            .map_err(|e| e.to_string())?;
+        c.goto(url).await.map_err(|e| e.to_string())?;
+        let mut times = Vec::new();
+        for i in 0..13u32 {
+            let (x, y) = ((i * 41 + 5) % w, (i * 29 + 3) % h);
+            let script = format!(
+                "return (async () => {{
+                   while (!window.rtlab || !window.rtlab.state.pixels) await new Promise((r) => setTimeout(r, 20));
+                   const t0 = performance.now();
+                   select({x}, {y});
+                   const shown = () => !document.getElementById('explanation').hidden
+                     && document.getElementById('px-title').textContent.includes('({x}, {y})');
+                   while (!shown()) await new Promise((r) => requestAnimationFrame(r));
+                   return performance.now() - t0;
+                 }})();"
+            );
+            let v = c.execute(&script, vec![]).await.map_err(|e| e.to_string())?;
+            if i > 0 {
+                times.push(v.as_f64().unwrap_or(f64::NAN)); // the first click warms the page up
+            }
+        }
+        let _ = c.close().await;
+        Ok::<_, String>(times)
+    });
+    let _ = child.kill();
+    let _ = child.wait();
+    let _ = std::fs::remove_dir_all(&profile);
+    result
 }
