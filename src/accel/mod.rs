@@ -73,26 +73,7 @@ pub struct Accel {
 // ANCHOR: object_test
 /// Tests one object: the world ray goes into object space (t is shared, see [`Ray`]), the
 /// shape's own routine runs with the recorder's observer, and the recorder hears the verdict.
-#[inline]
-pub fn test_object<R: Recorder>(
-    objects: &[Object],
-    i: usize,
-    ray: &Ray,
-    t_min: f64,
-    t_max: f64,
-    rec: &mut R,
-) -> Option<LocalHit> {
-    let object = &objects[i];
-    let local_ray = object.transform.ray_to_object(ray);
-    let hit = object
-        .shape
-        .intersect(&local_ray, t_min, t_max, rec.observer());
-    rec.tested(i, hit.map(|h| h.t), t_max, &local_ray);
-    hit
-}
-// ANCHOR_END: object_test
-
-/// [`test_object`] under the catalogue's shape mistakes.
+/// `mistakes` are the catalogue's shape mistakes ([`Mistakes::NONE`]: the correct test).
 #[inline]
 pub fn test_object_as<R: Recorder>(
     objects: &[Object],
@@ -110,6 +91,20 @@ pub fn test_object_as<R: Recorder>(
         .intersect_as(&local_ray, t_min, t_max, mistakes, rec.observer());
     rec.tested(i, hit.map(|h| h.t), t_max, &local_ray);
     hit
+}
+// ANCHOR_END: object_test
+
+/// [`test_object_as`] without mistakes: the test every correct render runs.
+#[inline]
+pub fn test_object<R: Recorder>(
+    objects: &[Object],
+    i: usize,
+    ray: &Ray,
+    t_min: f64,
+    t_max: f64,
+    rec: &mut R,
+) -> Option<LocalHit> {
+    test_object_as(objects, i, ray, t_min, t_max, Mistakes::NONE, rec)
 }
 
 // ANCHOR: object_any

@@ -130,15 +130,7 @@ pub fn to_json(scene: &Scene, r: &Report) -> Value {
 pub const WELL_EXPLAINED: f64 = 0.5;
 
 fn count(n: usize) -> String {
-    let s = n.to_string();
-    let mut out = String::new();
-    for (i, ch) in s.chars().enumerate() {
-        if i > 0 && (s.len() - i).is_multiple_of(3) {
-            out.push(',');
-        }
-        out.push(ch);
-    }
-    out
+    crate::report::thousands(n as u64)
 }
 
 /// Where a region is, for people: "sphere (body, cap)".

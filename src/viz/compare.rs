@@ -89,15 +89,7 @@ fn crop_of(img: &RgbImage, c: Crop) -> RgbImage {
 }
 
 fn fmt_count(n: u64) -> String {
-    let s = n.to_string();
-    let mut out = String::new();
-    for (i, ch) in s.chars().enumerate() {
-        if i > 0 && (s.len() - i).is_multiple_of(3) {
-            out.push(',');
-        }
-        out.push(ch);
-    }
-    out
+    crate::report::thousands(n)
 }
 
 /// Draws the comparison: one column per panel plus the reference, rows image / crop / error,
