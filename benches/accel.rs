@@ -17,6 +17,9 @@
 //! (folder of the shared meshes, default ../shared/meshes next to the crate, or
 //! /work/shared/meshes).
 //!
+//! `cargo bench --bench accel -- --only PASS MESH [REPEATS]` runs one pass alone (single,
+//! bundle, render, render-bundle or shadow), for profilers.
+//!
 //! Everything runs on 2 threads (rtlab: a rayon pool of 2; Embree: `threads=2`).
 
 use rayon::prelude::*;
@@ -36,6 +39,10 @@ fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     if let Some(i) = args.iter().position(|a| a == "--child-mem") {
         child_memory(Path::new(&args[i + 1]));
+        return;
+    }
+    if let Some(i) = args.iter().position(|a| a == "--only") {
+        only(&args[i + 1..]);
         return;
     }
     let filters: Vec<&String> = args.iter().filter(|a| !a.starts_with('-')).collect();
@@ -78,6 +85,48 @@ fn main() {
     if filters.is_empty() || filters.iter().any(|f| "whitted".contains(f.as_str())) {
         bench_whitted(runs, &pool, tmp.path());
     }
+}
+
+/// `--only PASS MESH [REPEATS]`: one pass (single, bundle, render, render-bundle, shadow)
+/// on one mesh, repeated, with nothing else in the process: for profilers (`perf stat`,
+/// `perf record`), which then see only that pass.
+fn only(args: &[String]) {
+    let (pass, name) = (args[0].as_str(), args[1].as_str());
+    let repeats: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(20);
+    let (_, Some(path)) = meshes()
+        .into_iter()
+        .find(|(n, _)| n == name)
+        .expect("a mesh name")
+    else {
+        panic!("{name}: mesh file not found")
+    };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(THREADS)
+        .build()
+        .expect("a thread pool");
+    let tmp = tempfile::tempdir().expect("a temporary folder");
+    let scene = pool.install(|| mesh_scene(&path, tmp.path()));
+    let cam = HarnessCamera::new(&scene);
+    let view = render_view(&path, &cam, tmp.path());
+    let camera = camera_pass(&scene, &cam, &pool);
+    let mut speeds = Vec::new();
+    for _ in 0..repeats {
+        speeds.push(match pass {
+            "single" => (W * H) as f64 / camera_pass(&scene, &cam, &pool).seconds / 1e6,
+            "bundle" => (W * H) as f64 / bundle_pass(&scene, &cam, &pool).0 / 1e6,
+            "render" => render_mrays(&view, rtlab::accel::Traversal::Single, &pool),
+            "render-bundle" => render_mrays(&view, rtlab::accel::Traversal::Bundle, &pool),
+            "shadow" => {
+                let (secs, rays, _) = shadow_pass(&scene, &cam, &camera, &pool);
+                rays as f64 / secs / 1e6
+            }
+            _ => panic!("{pass}: not single, bundle, render, render-bundle or shadow"),
+        });
+    }
+    println!(
+        "{pass} on {name}: {:.2} Mrays/s (median of {repeats})",
+        median(speeds)
+    );
 }
 
 // ---------------------------------------------------------------- inputs
