@@ -3,11 +3,10 @@
 //!
 //! - click → explanation: `GET /api/explain?x&y` for pixels across the image (target < 50 ms);
 //! - switch → first preview: what the page does after a switch, `GET /api/scene?<switches>`
-//!   (the size under those options) then `GET /api/render.png?<switches>&width=W/8&height=H/8`,
-//!   with a combination of switches not asked before, so the scene is loaded afresh
-//!   (target < 100 ms);
-//! - the old preview, `--subsample 8` at full size, for comparison (its reconstruction still
-//!   visits every pixel's filter footprint);
+//!   (the size under those options) then `GET /api/render.png?<switches>&pass=1`, pass 1 of
+//!   the progressive render (`--passes 1`: one pixel in 4×4 traced), with a combination of
+//!   switches not asked before, so the scene is loaded afresh (target < 100 ms);
+//! - the page's old preview, the scene at 1/8 of its width and height, for comparison;
 //! - and the full image after the switch, for scale.
 //!
 //! - in the browser (headless Chromium through chromedriver, when installed): a click on a
@@ -72,7 +71,7 @@ fn main() {
 
         // Warm up (first load, page assets).
         get(&addr, "/");
-        get(&addr, "/api/render.png?subsample=8");
+        get(&addr, "/api/render.png?pass=1");
 
         let mut explain = Vec::new();
         for i in 0..24u32 {
@@ -98,16 +97,13 @@ fn main() {
         for sw in switches {
             let (st, _, a) = get(&addr, &format!("/api/scene?{sw}"));
             assert_eq!(st, 200);
-            let (pw, ph) = (w.div_ceil(8), h.div_ceil(8));
-            let (st, _, b) = get(
-                &addr,
-                &format!("/api/render.png?{sw}&width={pw}&height={ph}&stream=bench"),
-            );
+            let (st, _, b) = get(&addr, &format!("/api/render.png?{sw}&pass=1&stream=bench"));
             assert_eq!(st, 200);
             preview.push(a + b);
+            let (pw, ph) = (w.div_ceil(8), h.div_ceil(8));
             let (st, _, ms) = get(
                 &addr,
-                &format!("/api/render.png?{sw}&subsample=8&stream=bench"),
+                &format!("/api/render.png?{sw}&width={pw}&height={ph}&stream=bench"),
             );
             assert_eq!(st, 200);
             subsampled.push(ms);
@@ -118,7 +114,7 @@ fn main() {
         println!("\n{rel} ({w}×{h}, {} spp)", s.render.spp);
         println!("  click → explanation      {}", stats(&mut explain));
         println!("  switch → first preview   {}", stats(&mut preview));
-        println!("  (--subsample 8 preview   {})", stats(&mut subsampled));
+        println!("  (1/8-size preview        {})", stats(&mut subsampled));
         println!("  switch → full image      {}", stats(&mut full));
         match browser_clicks(&running.url, w, h) {
             Ok(mut v) => println!("  click → explanation, in the browser  {}", stats(&mut v)),

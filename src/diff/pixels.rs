@@ -71,7 +71,7 @@ pub fn trace_pixels<R: Recorder, T: Send + Sync + Clone>(
         .par_iter()
         .map(|&(x, y)| {
             let (color, weights) = render_reconstruct(&filter, x, y, w, h, |qx, qy| {
-                at(qx, qy).iter().map(|s| (s.0, s.1, s.2)).collect()
+                at(qx, qy).iter().map(|s| (s.0, s.1, s.2))
             });
             let samples = weights
                 .into_iter()

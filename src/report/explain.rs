@@ -80,7 +80,6 @@ pub fn explain(scene: &Scene, x: u32, y: u32) -> Explanation {
         })
         .into_iter()
         .map(|p| (p.film, p.color, p.area))
-        .collect()
     });
     let mut traced = traced.into_inner();
     let samples = weights

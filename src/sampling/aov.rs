@@ -472,7 +472,6 @@ pub fn render_aov(scene: &Scene, base: &RenderSettings, aov: Aov) -> AovImage {
                     samples.pixels[(qy * w + qx) as usize]
                         .iter()
                         .map(|(film, s)| (*film, aov.display(s, ranges), 1.0))
-                        .collect()
                 })
                 .0
             })

@@ -4,11 +4,12 @@
 //! tracer then shades each sample as usual, from its hit ([`crate::trace::trace_camera`]).
 
 use super::film::Tile;
-use super::sampler::planned_films;
+use super::sampler::{planned_films, traces_samples};
 use crate::accel::{BundleCost, BUNDLE};
 use crate::math::Ray;
-use crate::scene::{RenderSettings, Scene};
+use crate::scene::{RenderSettings, SamplerKind, Scene};
 use crate::trace::{camera_ray, CameraRay, Found};
+use arrayvec::ArrayVec;
 use glam::DVec2;
 
 /// Side of a bundle's block of pixels (BUNDLE = SIDE²).
@@ -29,53 +30,77 @@ impl BundleTally {
     }
 }
 
-/// The camera rays of every sample of `tile`, their closest hits found in bundles: for each
-/// pixel of the tile (in its row-major order), its samples' rays by index. `None` when the
-/// samples are not known before tracing (the adaptive sampler): those rays go alone.
+/// The camera rays of every sample of a tile, their closest hits already found in bundles
+/// ([`tile_camera_rays`]), kept in one vector: pixel `l`'s samples (in the tile's row-major
+/// order) are `rays[starts[l]..starts[l + 1]]`, by sample index.
+pub struct TileCameras {
+    rays: Vec<Option<CameraRay>>,
+    starts: Vec<u32>,
+}
+
+impl TileCameras {
+    /// Takes the camera ray of sample `k` of the tile's pixel `local` (`None` once taken).
+    pub fn take(&mut self, local: usize, k: usize) -> Option<CameraRay> {
+        let i = self.starts[local] as usize + k;
+        (i < self.starts[local + 1] as usize)
+            .then(|| self.rays[i].take())
+            .flatten()
+    }
+}
+
+/// The camera rays of every sample of `tile`, their closest hits found in bundles: a
+/// [`TileCameras`]. `None` when the samples are not known before tracing (the adaptive
+/// sampler): those rays go alone.
 pub fn tile_camera_rays(
     scene: &Scene,
     settings: &RenderSettings,
     tile: &Tile,
     tally: &mut BundleTally,
-) -> Option<Vec<Vec<Option<CameraRay>>>> {
+) -> Option<TileCameras> {
     let (w, h) = (scene.camera.width, scene.camera.height);
-    let films: Vec<Vec<DVec2>> = tile
-        .pixels()
-        .map(|(x, y)| planned_films(settings, w, h, x, y))
-        .collect::<Option<_>>()?;
-    let mut out: Vec<Vec<Option<CameraRay>>> = films
-        .iter()
-        .map(|f| (0..f.len()).map(|_| None).collect())
-        .collect();
+    let mut films: Vec<DVec2> = Vec::with_capacity(tile.len());
+    let mut starts: Vec<u32> = Vec::with_capacity(tile.len() + 1);
+    starts.push(0);
+    for (x, y) in tile.pixels() {
+        if settings.sampler == SamplerKind::Center && traces_samples(settings, w, h, x, y) {
+            // The one-sample case, as `sample_pixel_into` traces it, without a list of one.
+            films.push(DVec2::new(x as f64, y as f64) + DVec2::splat(0.5));
+        } else {
+            films.extend(planned_films(settings, w, h, x, y)?);
+        }
+        starts.push(films.len() as u32);
+    }
+    let mut rays: Vec<Option<CameraRay>> = (0..films.len()).map(|_| None).collect();
     let tile_w = tile.x.len() as u32;
-    let most = films.iter().map(Vec::len).max().unwrap_or(0);
+    let most = (0..tile.len())
+        .map(|l| starts[l + 1] - starts[l])
+        .max()
+        .unwrap_or(0);
     // Per block of SIDE×SIDE pixels and per sample index: one bundle.
-    let mut members: Vec<(usize, usize)> = Vec::with_capacity(BUNDLE);
-    let mut samples = Vec::with_capacity(BUNDLE);
+    let mut slots: ArrayVec<usize, BUNDLE> = ArrayVec::new();
+    let mut samples: ArrayVec<(u32, u32, u32, DVec2), BUNDLE> = ArrayVec::new();
     for by in (tile.y.start..tile.y.end).step_by(SIDE as usize) {
         for bx in (tile.x.start..tile.x.end).step_by(SIDE as usize) {
             for k in 0..most {
-                members.clear();
+                slots.clear();
                 samples.clear();
                 for y in by..(by + SIDE).min(tile.y.end) {
                     for x in bx..(bx + SIDE).min(tile.x.end) {
                         let local = ((y - tile.y.start) * tile_w + (x - tile.x.start)) as usize;
-                        if let Some(&film) = films[local].get(k) {
-                            members.push((local, k));
-                            samples.push((x, y, k as u32, film));
+                        let i = starts[local] + k;
+                        if i < starts[local + 1] {
+                            slots.push(i as usize);
+                            samples.push((x, y, k, films[i as usize]));
                         }
                     }
                 }
-                for (cam, &(local, k)) in camera_rays(scene, settings, &samples, tally)
-                    .into_iter()
-                    .zip(&members)
-                {
-                    out[local][k] = Some(cam);
-                }
+                bundle_into(scene, settings, &samples, tally, |j, cam| {
+                    rays[slots[j]] = Some(cam);
+                });
             }
         }
     }
-    Some(out)
+    Some(TileCameras { rays, starts })
 }
 
 /// The camera rays of `samples` (pixel x, y, sample index, film), each run of [`BUNDLE`]
@@ -89,25 +114,40 @@ pub fn camera_rays(
 ) -> Vec<CameraRay> {
     let mut out = Vec::with_capacity(samples.len());
     for chunk in samples.chunks(BUNDLE) {
-        let cams = chunk
-            .iter()
-            .map(|&(x, y, k, film)| camera_ray(scene, settings, x, y, k, film));
-        let start = out.len();
-        out.extend(cams);
-        let rays: Vec<Ray> = out[start..].iter().map(|c| c.ray).collect();
-        let mut cost = BundleCost::default();
-        let hits = scene
-            .accel
-            .closest_bundle(&scene.objects, &rays, 0.0, &mut cost);
-        tally.bundles += 1;
-        tally.opened += cost.opened as u64;
-        for (j, cam) in out[start..].iter_mut().enumerate() {
-            cam.found = Some(Found {
-                hit: hits[j],
-                tests: cost.tests[j],
-                nodes: cost.nodes[j],
-            });
-        }
+        bundle_into(scene, settings, chunk, tally, |_, cam| out.push(cam));
     }
     out
+}
+
+/// One bundle: the camera rays of at most [`BUNDLE`] samples, made and traced together to
+/// their closest hits, handed to `put(j, ray)` in the order of `samples`.
+fn bundle_into(
+    scene: &Scene,
+    settings: &RenderSettings,
+    samples: &[(u32, u32, u32, DVec2)],
+    tally: &mut BundleTally,
+    mut put: impl FnMut(usize, CameraRay),
+) {
+    if samples.is_empty() {
+        return;
+    }
+    let cams: ArrayVec<CameraRay, BUNDLE> = samples
+        .iter()
+        .map(|&(x, y, k, film)| camera_ray(scene, settings, x, y, k, film))
+        .collect();
+    let rays: ArrayVec<Ray, BUNDLE> = cams.iter().map(|c| c.ray).collect();
+    let mut cost = BundleCost::default();
+    let hits = scene
+        .accel
+        .closest_bundle(&scene.objects, &rays, 0.0, &mut cost);
+    tally.bundles += 1;
+    tally.opened += cost.opened as u64;
+    for (j, mut cam) in cams.into_iter().enumerate() {
+        cam.found = Some(Found {
+            hit: hits[j],
+            tests: cost.tests[j],
+            nodes: cost.nodes[j],
+        });
+        put(j, cam);
+    }
 }

@@ -291,7 +291,7 @@ fn render_with<R: Tally>(
                 sample_pixel_into(settings, w, h, x, y, &mut samples, |k, film| {
                     let camera = cameras
                         .as_mut()
-                        .and_then(|c| c[local][k as usize].take())
+                        .and_then(|c| c.take(local, k as usize))
                         .unwrap_or_else(|| camera_ray(scene, settings, x, y, k, film));
                     debug_assert_eq!(camera.generation.film, film);
                     let r = trace_camera(scene, settings, camera, &mut rec);
@@ -377,13 +377,11 @@ fn render_with<R: Tally>(
         .flat_map_iter(|y| {
             let grid = &grid;
             (0..w).map(move |x| {
-                reconstruct(&filter, x, y, w, h, |qx, qy| {
+                reconstruct_color(&filter, x, y, w, h, |qx, qy| {
                     grid[(qy * w + qx) as usize]
                         .iter()
                         .map(|s| (s.film, s.color, s.area))
-                        .collect()
                 })
-                .0
             })
         })
         .collect();
@@ -410,18 +408,41 @@ fn render_with<R: Tally>(
 /// `samples_of(qx, qy)` gives the (film, colour, area) of the samples pixel q owns. Returns the
 /// colour and the normalised weight of each sample, pixel by pixel (for `explain`). Pixels are
 /// visited in a fixed order, so the sum is the same on any number of threads.
-pub fn reconstruct(
+pub fn reconstruct<I: IntoIterator<Item = (DVec2, DVec3, f64)>>(
     filter: &Filter,
     x: u32,
     y: u32,
     width: u32,
     height: u32,
-    samples_of: impl Fn(u32, u32) -> Vec<(DVec2, DVec3, f64)>,
+    samples_of: impl Fn(u32, u32) -> I,
 ) -> (DVec3, Vec<(u32, u32, usize, f64)>) {
+    let mut weights = Vec::new();
+    let (sum, total) = accumulate(filter, x, y, width, height, samples_of, |qx, qy, k, w| {
+        weights.push((qx, qy, k, w))
+    });
+    if total.abs() < 1e-12 {
+        return (DVec3::ZERO, weights);
+    }
+    for w in &mut weights {
+        w.3 /= total;
+    }
+    (sum / total, weights)
+}
+
+/// Σ w·a·c and Σ w·a over the samples within the filter's reach of pixel (x, y), in the fixed
+/// order [`reconstruct`] documents, telling `weighed(qx, qy, k, w)` each nonzero weight.
+fn accumulate<I: IntoIterator<Item = (DVec2, DVec3, f64)>>(
+    filter: &Filter,
+    x: u32,
+    y: u32,
+    width: u32,
+    height: u32,
+    samples_of: impl Fn(u32, u32) -> I,
+    mut weighed: impl FnMut(u32, u32, usize, f64),
+) -> (DVec3, f64) {
     let centre = DVec2::new(x as f64 + 0.5, y as f64 + 0.5);
     let reach = filter.reach();
     let (mut sum, mut total) = (DVec3::ZERO, 0.0);
-    let mut weights = Vec::new();
     for qy in (y as i64 - reach).max(0)..=(y as i64 + reach).min(height as i64 - 1) {
         for qx in (x as i64 - reach).max(0)..=(x as i64 + reach).min(width as i64 - 1) {
             for (k, (film, color, area)) in samples_of(qx as u32, qy as u32).into_iter().enumerate()
@@ -431,18 +452,30 @@ pub fn reconstruct(
                 if w != 0.0 {
                     sum += w * color;
                     total += w;
-                    weights.push((qx as u32, qy as u32, k, w));
+                    weighed(qx as u32, qy as u32, k, w);
                 }
             }
         }
     }
+    (sum, total)
+}
+
+/// [`reconstruct`]'s colour alone (the same sums, so the same bits), keeping no weights: what
+/// the renderer runs for every pixel.
+fn reconstruct_color<I: IntoIterator<Item = (DVec2, DVec3, f64)>>(
+    filter: &Filter,
+    x: u32,
+    y: u32,
+    width: u32,
+    height: u32,
+    samples_of: impl Fn(u32, u32) -> I,
+) -> DVec3 {
+    let (sum, total) = accumulate(filter, x, y, width, height, samples_of, |_, _, _, _| {});
     if total.abs() < 1e-12 {
-        return (DVec3::ZERO, weights);
+        DVec3::ZERO
+    } else {
+        sum / total
     }
-    for w in &mut weights {
-        w.3 /= total;
-    }
-    (sum / total, weights)
 }
 // ANCHOR_END: reconstruct
 

@@ -250,21 +250,44 @@ async fn diagram(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Re
     .await
 }
 
-/// `GET /api/render.png?[aov=NAME][&stream=ID]&<render options>`: the bytes `rtlab render`
-/// (with `--aov NAME`) writes. A newer render on the same stream cancels this one (409).
+/// `GET /api/render.png?[aov=NAME][&pass=K][&stream=ID]&<render options>`: the bytes
+/// `rtlab render` (with `--aov NAME`, `--passes K`) writes: pass K of the progressive
+/// render (1: the preview, 2: the scene's own settings, more: more samples per pixel), the
+/// page's preview and refinements. A newer render on the same stream cancels this one (409).
 async fn render(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Response {
-    let q = match query(&raw, &["aov", "stream"]) {
+    let q = match query(&raw, &["aov", "pass", "stream"]) {
         Ok(q) => q,
         Err(r) => return r,
     };
     let cancel = state.supersede(q.own.get("stream").map(String::as_str));
     run(state, move |st| {
         let aov = q.own.get("aov").map(|a| Aov::parse_arg(a)).transpose()?;
+        let pass = q
+            .own
+            .get("pass")
+            .map(|p| match p.parse::<u32>() {
+                Ok(k) if k >= 1 => Ok(k),
+                _ => Err(Fail::from(Error::arg(
+                    "pass",
+                    format!("'{p}' is not a pass number (1, 2, 3, ...)"),
+                ))),
+            })
+            .transpose()?;
         let s = st.scene(&q.words)?;
+        let settings = match pass {
+            Some(k) => crate::sampling::progressive::pass_settings(
+                &s.render,
+                s.camera.width,
+                s.camera.height,
+                k,
+            )
+            .map_err(|m| Fail::from(Error::arg("pass", m)))?,
+            None => s.render.clone(),
+        };
         if let Some(aov) = aov {
-            return png(&render_aov(&s, &s.render, aov).image);
+            return png(&render_aov(&s, &settings, aov).image);
         }
-        match crate::sampling::render_cancellable(&s, &s.render, &cancel) {
+        match crate::sampling::render_cancellable(&s, &settings, &cancel) {
             Some(out) => png(&out.image.to_rgb8(s.render.encoding)),
             None => Err(Fail::Status(
                 StatusCode::CONFLICT,

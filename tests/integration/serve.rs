@@ -193,6 +193,40 @@ fn render_and_explain_are_the_clis_bytes() {
     let r = s.get("/api/render.png?aov=normal");
     assert_eq!(r.body, std::fs::read(&out).unwrap());
 
+    // The page's preview and full image are passes 1 and 2 of `render --passes K`.
+    for k in ["1", "2", "3"] {
+        let o = rtlab(&[
+            "render",
+            "scenes/spheres.json",
+            "--max-depth",
+            "2",
+            "--passes",
+            k,
+            "-q",
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let r = s.get(&format!("/api/render.png?pass={k}"));
+        assert_eq!(r.status, 200, "pass {k}: {}", r.text());
+        assert_eq!(
+            r.body,
+            std::fs::read(&out).unwrap(),
+            "pass {k} differs from --passes {k}"
+        );
+    }
+    let plain = s.get("/api/render.png").body;
+    assert_eq!(
+        s.get("/api/render.png?pass=2").body,
+        plain,
+        "pass 2 is the scene's own image"
+    );
+    assert_ne!(
+        s.get("/api/render.png?pass=1").body,
+        plain,
+        "pass 1 is a preview"
+    );
+
     for (q, flags) in [
         ("x=160&y=120", vec![]),
         (
@@ -385,6 +419,9 @@ fn bad_parameters_get_the_clis_one_line_messages() {
         "/api/diagram.png?x=1&y=1&plane=sideways",
         "/api/diagram.png?x=1&y=1&highlight=one",
         "/api/render.png?spp=100000",
+        "/api/render.png?pass=0",
+        "/api/render.png?pass=two",
+        "/api/render.png?pass=40",
     ] {
         let r = s.get(q);
         assert_eq!(r.status, 400, "{q}: {}", r.text());

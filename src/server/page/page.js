@@ -5,7 +5,6 @@
 
 const $ = (id) => document.getElementById(id);
 const STREAM = "page-" + Math.random().toString(36).slice(2);
-const PREVIEW = 8; // the preview's pixels are this many of the image's, across and down
 const PRIMARY = ["no-shadows", "no-reflections", "no-refractions", "no-textures", "max-depth",
   "spp", "sampler", "filter", "course-stage", "mistake"];
 
@@ -218,9 +217,10 @@ function setStatus(text, error) {
   s.className = error ? "error" : "";
 }
 
-// Coarse preview first (the scene rendered at 1/8 of its width and height, one ray per 8×8
-// block, shown with big pixels), then the full image; the selected pixel's explanation
-// follows. A newer call makes older answers stale (and cancels them on the server).
+// The progressive render's passes (`rtlab render --passes K`): pass 1 first, the preview
+// (one pixel in 4×4 traced, the filter stretched over the rest), then pass 2, the scene's
+// own settings: the full image; the selected pixel's explanation follows. A newer call
+// makes older answers stale (and cancels them on the server).
 async function rerender() {
   const my = ++state.generation;
   if (state.controller) state.controller.abort();
@@ -236,20 +236,19 @@ async function rerender() {
     const info = await getJson("/api/scene?" + q);
     if (stale()) return;
     showSceneInfo(info);
-    const pw = Math.ceil(info.width / PREVIEW), ph = Math.ceil(info.height / PREVIEW);
     if (info.width * info.height > 64 * 64) {
-      setStatus("preview (one ray per 8×8 pixels)…");
-      const p = await loadImage("/api/render.png?" + join(renderQuery(["width", "height"]), `width=${pw}&height=${ph}`, own), controller.signal);
+      setStatus("pass 1, the preview (one pixel in 4×4 traced)…");
+      const p = await loadImage("/api/render.png?" + join(q, "pass=1", own), controller.signal);
       if (stale()) return;
       if (p) {
-        show(p, "preview", q, info.width, info.height);
-        setStatus(`preview after ${Math.round(performance.now() - t0)} ms; rendering the full image…`);
+        show(p, "preview", q);
+        setStatus(`pass 1 (preview, = rtlab render --passes 1) after ${Math.round(performance.now() - t0)} ms; pass 2, the full image…`);
       }
     }
     const img = await loadImage("/api/render.png?" + join(q, own), controller.signal);
     if (stale() || !img) return;
     show(img, "full", q);
-    setStatus(`full image, ${state.width}×${state.height}, ${Math.round(performance.now() - t0)} ms` + (q ? "  ·  " + q : ""));
+    setStatus(`pass 2, the full image (= rtlab render), ${state.width}×${state.height}, ${Math.round(performance.now() - t0)} ms` + (q ? "  ·  " + q : ""));
     if (state.selected) explain();
     if (!$("steps").hidden) loadSteps();
   } catch (e) {
