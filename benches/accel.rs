@@ -18,7 +18,7 @@
 //! /work/shared/meshes).
 //!
 //! `cargo bench --bench accel -- --only PASS MESH [REPEATS]` runs one pass alone (single,
-//! bundle, render, render-bundle or shadow), for profilers.
+//! bundle, render, render-bundle, render-stats or shadow), for profilers.
 //!
 //! Everything runs on 2 threads (rtlab: a rayon pool of 2; Embree: `threads=2`).
 
@@ -87,7 +87,8 @@ fn main() {
     }
 }
 
-/// `--only PASS MESH [REPEATS]`: one pass (single, bundle, render, render-bundle, shadow)
+/// `--only PASS MESH [REPEATS]`: one pass (single, bundle, render, render-bundle,
+/// render-stats, shadow)
 /// on one mesh, repeated, with nothing else in the process: for profilers (`perf stat`,
 /// `perf record`), which then see only that pass.
 fn only(args: &[String]) {
@@ -116,11 +117,16 @@ fn only(args: &[String]) {
             "bundle" => (W * H) as f64 / bundle_pass(&scene, &cam, &pool).0 / 1e6,
             "render" => render_mrays(&view, rtlab::accel::Traversal::Single, &pool),
             "render-bundle" => render_mrays(&view, rtlab::accel::Traversal::Bundle, &pool),
+            "render-stats" => {
+                render_mrays_counting(&view, rtlab::accel::Traversal::Single, true, &pool)
+            }
             "shadow" => {
                 let (secs, rays, _) = shadow_pass(&scene, &cam, &camera, &pool);
                 rays as f64 / secs / 1e6
             }
-            _ => panic!("{pass}: not single, bundle, render, render-bundle or shadow"),
+            _ => {
+                panic!("{pass}: not single, bundle, render, render-bundle, render-stats or shadow")
+            }
         });
     }
     println!(
@@ -455,9 +461,19 @@ fn render_view(obj: &Path, cam: &HarnessCamera, dir: &Path) -> Scene {
 
 /// Camera rays per second of `rtlab render`'s own trace time on the view.
 fn render_mrays(view: &Scene, traversal: rtlab::accel::Traversal, pool: &rayon::ThreadPool) -> f64 {
+    render_mrays_counting(view, traversal, false, pool)
+}
+
+/// [`render_mrays`], with `count`: counting rays, tests and nodes as `render --stats` does.
+fn render_mrays_counting(
+    view: &Scene,
+    traversal: rtlab::accel::Traversal,
+    count: bool,
+    pool: &rayon::ThreadPool,
+) -> f64 {
     let mut settings = view.render.clone();
     settings.traversal = traversal;
-    let out = pool.install(|| rtlab::sampling::render(view, &settings, false, None));
+    let out = pool.install(|| rtlab::sampling::render(view, &settings, count, None));
     (W * H) as f64 / out.trace_seconds / 1e6
 }
 
@@ -625,6 +641,8 @@ struct MeshRow {
     /// a diffuse material without lights, film): single rays and bundles.
     render: f64,
     render_bundle: f64,
+    /// The single-ray render again, counting as `--stats` does.
+    render_stats: f64,
     mesh_only: f64,
     shadow: f64,
     peak_mib: Option<f64>,
@@ -688,6 +706,7 @@ fn bench_mesh(
     let (mut b, mut c, mut m, mut s) = (vec![], vec![], vec![], vec![]);
     let (mut eb, mut ec, mut es, mut em) = (vec![], vec![], vec![], vec![]);
     let (mut e8, mut e16, mut bu, mut rs, mut rb) = (vec![], vec![], vec![], vec![], vec![]);
+    let mut rc = vec![];
     let view = render_view(obj, &cam, tmp);
     let mut last_embree = None;
     let mut last = None;
@@ -721,6 +740,12 @@ fn bench_mesh(
         bu.push((W * H) as f64 / bundled.0 / 1e6);
         rs.push(render_mrays(&view, rtlab::accel::Traversal::Single, pool));
         rb.push(render_mrays(&view, rtlab::accel::Traversal::Bundle, pool));
+        rc.push(render_mrays_counting(
+            &view,
+            rtlab::accel::Traversal::Single,
+            true,
+            pool,
+        ));
         println!(
             "  round {}: build {:.1} ms, camera {:.2} Mrays/s (bundles {:.2}, render {:.2} / {:.2}), shadow {:.2} Mrays/s{}",
             round + 1,
@@ -771,6 +796,7 @@ fn bench_mesh(
         bundle: median(bu),
         render: median(rs),
         render_bundle: median(rb),
+        render_stats: median(rc),
         mesh_only: median(m),
         shadow: median(s),
         peak_mib: peak_memory_mib(obj),
@@ -819,15 +845,15 @@ fn print_mesh_table(rows: &[MeshRow]) {
     println!();
     println!("camera rays, Mrays/s (medians); ratios to Embree's rtcIntersect1 (x1), rtcIntersect8 (x8), rtcIntersect16 (x16) of the same run");
     println!(
-        "{:<17} | {:>7} {:>7} {:>7} | {:>7} {:>5} {:>5} | {:>7} {:>5} {:>5} {:>5} | {:>7} {:>5} | {:>7} {:>5}",
-        "mesh", "Embree1", "Embree8", "Emb16", "single", "x1", "x16", "bundle", "x1", "x16", "/sgl", "render", "x1", "r+bndl", "x1"
+        "{:<17} | {:>7} {:>7} {:>7} | {:>7} {:>5} {:>5} | {:>7} {:>5} {:>5} {:>5} | {:>7} {:>5} | {:>7} {:>5} | {:>7} {:>6}",
+        "mesh", "Embree1", "Embree8", "Emb16", "single", "x1", "x16", "bundle", "x1", "x16", "/sgl", "render", "x1", "r+bndl", "x1", "r+stats", "/rndr"
     );
     for r in rows {
         let e = r.embree.as_ref();
         let f = |x: Option<f64>, p: usize| x.map_or("-".to_string(), |v| format!("{v:.p$}"));
         let ratio = |x: f64, by: fn(&EmbreeSummary) -> f64| f(e.map(|e| x / by(e)), 2);
         println!(
-            "{:<17} | {:>7} {:>7} {:>7} | {:>7.2} {:>5} {:>5} | {:>7.2} {:>5} {:>5} {:>5.2} | {:>7.2} {:>5} | {:>7.2} {:>5}",
+            "{:<17} | {:>7} {:>7} {:>7} | {:>7.2} {:>5} {:>5} | {:>7.2} {:>5} {:>5} {:>5.2} | {:>7.2} {:>5} | {:>7.2} {:>5} | {:>7.2} {:>6.2}",
             r.name,
             f(e.map(|e| e.camera), 2),
             f(e.map(|e| e.packet8), 2),
@@ -843,10 +869,15 @@ fn print_mesh_table(rows: &[MeshRow]) {
             ratio(r.render, |e| e.camera),
             r.render_bundle,
             ratio(r.render_bundle, |e| e.camera),
+            r.render_stats,
+            r.render_stats / r.render,
         );
     }
     println!("bundle: the same rays in 4x4 blocks through Accel::closest_bundle (same hits, checked); /sgl: bundle / single");
     println!("render, r+bndl: `rtlab render` of the same view (its own camera, a diffuse mesh, no lights: generation, traversal, shading, film), trace time, --traversal single / bundle");
+    println!(
+        "r+stats: the single-ray render counting as --stats does; /rndr: its speed / render's"
+    );
     println!();
     println!(
         "checksums (camera rays: hits, Σt; shadow rays: occluded of rays) and memory per triangle"
