@@ -117,6 +117,10 @@ fn only(args: &[String]) {
             "bundle" => (W * H) as f64 / bundle_pass(&scene, &cam, &pool).0 / 1e6,
             "render" => render_mrays(&view, rtlab::accel::Traversal::Single, &pool),
             "render-bundle" => render_mrays(&view, rtlab::accel::Traversal::Bundle, &pool),
+            "shadow-bundle" => {
+                let (secs, v) = shadow_bundle_pass(&scene, &cam, &camera, &pool);
+                v.len() as f64 / secs / 1e6
+            }
             "render-stats" => {
                 render_mrays_counting(&view, rtlab::accel::Traversal::Single, true, &pool)
             }
@@ -518,6 +522,96 @@ fn shadow_pass(
     (seconds, rays, occluded)
 }
 
+/// The same shadow rays as [`shadow_pass`], in bundles: per 4×4 block of pixels of a tile,
+/// the shadow rays of its pixels that hit, through `Accel::occluded_bundle`. Returns
+/// (seconds, blocked or not per pixel that hit, row-major).
+fn shadow_bundle_pass(
+    scene: &Scene,
+    cam: &HarnessCamera,
+    camera: &CameraPass,
+    pool: &rayon::ThreadPool,
+) -> (f64, Vec<bool>) {
+    use rtlab::accel::{BundleCost, BUNDLE};
+    let light = glam::DVec3::from_array(cam.light.map(|x| x as f64));
+    let eps = 1e-4 * cam.radius as f64;
+    let start = Instant::now();
+    let traced = per_tile(pool, |tile| {
+        let mut blocked = vec![false; tile.len()];
+        let tw = tile.x.len();
+        let mut rays = Vec::with_capacity(BUNDLE);
+        let mut local = Vec::with_capacity(BUNDLE);
+        let mut t_max = [0.0; BUNDLE];
+        for by in tile.y.clone().step_by(4) {
+            for bx in tile.x.clone().step_by(4) {
+                rays.clear();
+                local.clear();
+                for y in by..(by + 4).min(tile.y.end) {
+                    for x in bx..(bx + 4).min(tile.x.end) {
+                        let (x, y) = (x as usize, y as usize);
+                        let t = camera.t[y * W + x];
+                        if t < 0.0 {
+                            continue;
+                        }
+                        let p = cam.ray(x, y).at(t);
+                        let to_light = light - p;
+                        let dist = to_light.length();
+                        t_max[rays.len()] = dist;
+                        rays.push(Ray::new(p, to_light / dist));
+                        local.push((y - tile.y.start as usize) * tw + (x - tile.x.start as usize));
+                    }
+                }
+                if rays.is_empty() {
+                    continue;
+                }
+                let mut cost = BundleCost::default();
+                let b = scene
+                    .accel
+                    .occluded_bundle(&scene.objects, &rays, eps, &t_max, &mut cost);
+                for (j, &l) in local.iter().enumerate() {
+                    blocked[l] = b >> j & 1 == 1;
+                }
+            }
+        }
+        blocked
+    });
+    let seconds = start.elapsed().as_secs_f64();
+    let all = row_major(&traced);
+    (
+        seconds,
+        all.iter()
+            .zip(&camera.t)
+            .filter(|(_, &t)| t >= 0.0)
+            .map(|(&b, _)| b)
+            .collect(),
+    )
+}
+
+/// Blocked or not per pixel that hit, row-major: the single-ray verdicts [`shadow_pass`]
+/// counts, for checking the bundles against.
+fn shadow_verdicts(scene: &Scene, cam: &HarnessCamera, camera: &CameraPass) -> Vec<bool> {
+    let light = glam::DVec3::from_array(cam.light.map(|x| x as f64));
+    let eps = 1e-4 * cam.radius as f64;
+    let mut rec = NoRecorder::default();
+    (0..W * H)
+        .filter(|&i| camera.t[i] >= 0.0)
+        .map(|i| {
+            let p = cam.ray(i % W, i / W).at(camera.t[i]);
+            let to_light = light - p;
+            let dist = to_light.length();
+            scene
+                .accel
+                .occluded(
+                    &scene.objects,
+                    &Ray::new(p, to_light / dist),
+                    eps,
+                    dist,
+                    &mut rec,
+                )
+                .is_some()
+        })
+        .collect()
+}
+
 fn build_seconds(scene: &Scene, pool: &rayon::ThreadPool) -> f64 {
     let Shape::Mesh(mesh) = &scene.objects[0].shape else {
         unreachable!()
@@ -645,6 +739,8 @@ struct MeshRow {
     render_stats: f64,
     mesh_only: f64,
     shadow: f64,
+    /// The same shadow rays in 4×4 bundles (`Accel::occluded_bundle`).
+    shadow_bundle: f64,
     peak_mib: Option<f64>,
     bytes_per_tri: f64,
     hits: u64,
@@ -706,7 +802,7 @@ fn bench_mesh(
     let (mut b, mut c, mut m, mut s) = (vec![], vec![], vec![], vec![]);
     let (mut eb, mut ec, mut es, mut em) = (vec![], vec![], vec![], vec![]);
     let (mut e8, mut e16, mut bu, mut rs, mut rb) = (vec![], vec![], vec![], vec![], vec![]);
-    let mut rc = vec![];
+    let (mut rc, mut sb) = (vec![], vec![]);
     let view = render_view(obj, &cam, tmp);
     let mut last_embree = None;
     let mut last = None;
@@ -731,6 +827,14 @@ fn bench_mesh(
         c.push((W * H) as f64 / pass.seconds / 1e6);
         let (secs, rays, occ) = shadow_pass(&scene, &cam, &pass, pool);
         s.push(rays as f64 / secs / 1e6);
+        let (secs, verdicts) = shadow_bundle_pass(&scene, &cam, &pass, pool);
+        if round == 0 {
+            assert!(
+                verdicts == shadow_verdicts(&scene, &cam, &pass),
+                "{name}: the shadow bundles found other verdicts than single rays"
+            );
+        }
+        sb.push(rays as f64 / secs / 1e6);
         m.push((W * H) as f64 / mesh_only_seconds(&scene, &cam, pool) / 1e6);
         let bundled = bundle_pass(&scene, &cam, pool);
         assert!(
@@ -799,6 +903,7 @@ fn bench_mesh(
         render_stats: median(rc),
         mesh_only: median(m),
         shadow: median(s),
+        shadow_bundle: median(sb),
         peak_mib: peak_memory_mib(obj),
         bytes_per_tri,
         hits: pass.hits,
@@ -842,6 +947,25 @@ fn print_mesh_table(rows: &[MeshRow]) {
         );
     }
     println!("2-level: how much faster the same camera rays run straight into the mesh's BVH, skipping the scene level");
+    println!();
+    println!("shadow rays from the camera hits, Mrays/s (medians): single rays, and in 4x4 bundles (Accel::occluded_bundle, same verdicts, checked)");
+    println!(
+        "{:<17} | {:>8} {:>8} | {:>8} {:>6} {:>6}",
+        "mesh", "Embree", "single", "bundle", "x1", "/sgl"
+    );
+    for r in rows {
+        let e = r.embree.as_ref();
+        let f = |x: Option<f64>| x.map_or("-".to_string(), |v| format!("{v:.2}"));
+        println!(
+            "{:<17} | {:>8} {:>8.2} | {:>8.2} {:>6} {:>6.2}",
+            r.name,
+            f(e.map(|e| e.shadow)),
+            r.shadow,
+            r.shadow_bundle,
+            f(e.map(|e| r.shadow_bundle / e.shadow)),
+            r.shadow_bundle / r.shadow,
+        );
+    }
     println!();
     println!("camera rays, Mrays/s (medians); ratios to Embree's rtcIntersect1 (x1), rtcIntersect8 (x8), rtcIntersect16 (x16) of the same run");
     println!(

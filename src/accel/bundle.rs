@@ -157,3 +157,77 @@ impl Bvh {
     }
     // ANCHOR_END: closest_bundle
 }
+
+impl Bvh {
+    // ANCHOR: any_bundle
+    /// Shadow rays in a bundle: which of `rays` (bit i of `active`: ray i takes part, within
+    /// [t_min, t_max[i]]) are blocked. The bundle walks the tree together as in
+    /// [`Bvh::closest_bundle`], children in no particular order; `test(k, rays)` tests
+    /// primitive slot `k` against the rays in `rays` and returns those it blocks. A ray
+    /// leaves the bundle once blocked, and the walk ends when every ray is, so each ray's
+    /// verdict is what [`Bvh::any`] gives it alone.
+    pub fn any_bundle(
+        &self,
+        rays: &[Ray],
+        active: u32,
+        t_min: f64,
+        t_max: &[f64; BUNDLE],
+        work: &mut BundleWork,
+        mut test: impl FnMut(usize, u32) -> u32,
+    ) -> u32 {
+        if self.nodes.is_empty() || active == 0 {
+            return 0;
+        }
+        let n = rays.len();
+        let boxes: [RayBox; BUNDLE] = std::array::from_fn(|i| RayBox::new(&rays[i.min(n - 1)]));
+        let t_min32 = down(t_min);
+        let t_max32: [f32; BUNDLE] = std::array::from_fn(|i| up(t_max[i]));
+        let mut blocked = 0u32;
+        let mut stack = ArrayVec::<(u32, u32), STACK>::new();
+        stack.push((0, active));
+        while let Some((node, rays_in)) = stack.pop() {
+            let mask = rays_in & !blocked;
+            if mask == 0 {
+                continue;
+            }
+            work.opened += 1;
+            let nd = &self.nodes[node as usize];
+            let mut lane_rays = [0u32; WIDTH];
+            let mut m = mask;
+            while m != 0 {
+                let i = m.trailing_zeros() as usize;
+                m &= m - 1;
+                work.ray_nodes[i] += 1;
+                let (hit, _) = nd.enter(&boxes[i], t_min32, t_max32[i]);
+                for (lane, r) in lane_rays.iter_mut().enumerate() {
+                    *r |= ((hit >> lane) & 1) << i;
+                }
+            }
+            for (lane, &entered) in lane_rays.iter().enumerate() {
+                let r = entered & !blocked;
+                if r == 0 {
+                    continue;
+                }
+                let (child, count) = (nd.child[lane], nd.count[lane]);
+                if count == 0 {
+                    stack.push((child, r));
+                    continue;
+                }
+                let mut open = r;
+                for k in child as usize..(child + count) as usize {
+                    let b = test(k, open);
+                    blocked |= b;
+                    open &= !b;
+                    if open == 0 {
+                        break;
+                    }
+                }
+                if blocked & active == active {
+                    return blocked;
+                }
+            }
+        }
+        blocked
+    }
+    // ANCHOR_END: any_bundle
+}

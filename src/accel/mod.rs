@@ -344,6 +344,74 @@ impl Accel {
         found
     }
     // ANCHOR_END: occluded
+
+    /// [`Accel::occluded`]'s verdict for each of up to [`BUNDLE`] shadow rays, ray i within
+    /// [t_min, t_max[i]], as a bit mask (bit i: ray i is blocked): the rays walk the scene's
+    /// BVH and each mesh's BVH together ([`Bvh::any_bundle`]). `cost` gets the nodes opened.
+    pub fn occluded_bundle(
+        &self,
+        objects: &[Object],
+        rays: &[Ray],
+        t_min: f64,
+        t_max: &[f64; BUNDLE],
+        cost: &mut BundleCost,
+    ) -> u32 {
+        let all = if rays.len() >= 32 {
+            u32::MAX
+        } else {
+            (1u32 << rays.len()) - 1
+        };
+        let mut blocked = 0u32;
+        for &i in &self.unbounded {
+            blocked |= occluded_object_bundle(objects, i, rays, all & !blocked, t_min, t_max, cost);
+        }
+        let mut work = BundleWork::default();
+        blocked |= self
+            .bvh
+            .any_bundle(rays, all & !blocked, t_min, t_max, &mut work, |k, mask| {
+                let i = self.bounded[self.bvh.prims[k] as usize];
+                occluded_object_bundle(objects, i, rays, mask, t_min, t_max, cost)
+            });
+        cost.opened += work.opened;
+        blocked
+    }
+}
+
+/// Which shadow rays of a bundle (in `mask`) object `i` blocks: a mesh takes them through
+/// its own BVH together, any other shape tests them one by one with its own routine.
+fn occluded_object_bundle(
+    objects: &[Object],
+    i: usize,
+    rays: &[Ray],
+    mask: u32,
+    t_min: f64,
+    t_max: &[f64; BUNDLE],
+    cost: &mut BundleCost,
+) -> u32 {
+    if mask == 0 {
+        return 0;
+    }
+    let object = &objects[i];
+    let n = rays.len();
+    let local: [Ray; BUNDLE] =
+        std::array::from_fn(|r| object.transform.ray_to_object(&rays[r.min(n - 1)]));
+    if let crate::shapes::Shape::Mesh(m) = &object.shape {
+        let mut work = BundleWork::default();
+        let blocked = m.occluded_bundle(&local[..n], mask, t_min, t_max, &mut work);
+        cost.opened += work.opened;
+        return blocked;
+    }
+    let mut blocked = 0;
+    let mut m = mask;
+    while m != 0 {
+        let r = m.trailing_zeros() as usize;
+        m &= m - 1;
+        let hit = object
+            .shape
+            .occluded(&local[r], t_min, t_max[r], &mut crate::shapes::NoObserver);
+        blocked |= (hit.is_some() as u32) << r;
+    }
+    blocked
 }
 
 /// Tests object `i` against the rays of a bundle in `mask` (each within [t_min, t_max[r]]),

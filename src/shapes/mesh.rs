@@ -231,6 +231,34 @@ impl Mesh {
         })
     }
 
+    /// Which of a bundle of object-space shadow rays (bit i of `active`) some face blocks
+    /// within [t_min, t_max[i]]: each ray's [`Mesh::occluded`] verdict, found by one walk of
+    /// the BVH for all of them ([`Bvh::any_bundle`]), each face prepared once for the rays
+    /// that reach it.
+    pub fn occluded_bundle(
+        &self,
+        rays: &[Ray],
+        active: u32,
+        t_min: f64,
+        t_max: &[f64; BUNDLE],
+        work: &mut BundleWork,
+    ) -> u32 {
+        self.bvh
+            .any_bundle(rays, active, t_min, t_max, work, |k, mask| {
+                let p = self.packed[k].prepared();
+                let mut blocked = 0;
+                let mut m = mask;
+                while m != 0 {
+                    let i = m.trailing_zeros() as usize;
+                    m &= m - 1;
+                    if cramer_hit_prepared(&p, &rays[i], t_min, t_max[i]).is_some() {
+                        blocked |= 1 << i;
+                    }
+                }
+                blocked
+            })
+    }
+
     /// Any face hit within [t_min, t_max] (shadow rays): the first one found, not the
     /// closest. Active observers (explain) get the closest hit and its full working instead,
     /// so the blocker a student reads about is the nearest one; the verdict is the same.

@@ -134,3 +134,86 @@ fn bundle_diagram_is_drawn_for_a_mesh_and_refused_without_one() {
     assert!(stderr(&o).contains("--bundle-diagram") && stderr(&o).contains("mesh"));
     assert!(!bad.exists());
 }
+
+/// Shadow rays in bundles (`Accel::occluded_bundle`) get exactly the verdicts single rays
+/// get (`Accel::occluded`): on every scene, from each camera hit of a 45×34 image (in 4×4
+/// blocks, as the bench groups them) towards points around the scene, from the ray's own
+/// t_min, with distances both to the point and short of it.
+#[test]
+fn every_scene_same_shadow_verdicts_single_or_bundle() {
+    use rtlab::accel::{BundleCost, BUNDLE};
+    use rtlab::math::Ray;
+    let mut blocked_seen = [0usize; 2];
+    for p in all_scenes() {
+        let mut scene =
+            rtlab::scene::Scene::load(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+        scene.camera.update_size(45, 34);
+        let eye = scene
+            .camera
+            .generate(glam::DVec2::new(22.5, 17.0), None)
+            .0
+            .origin;
+        let targets = [
+            eye,
+            eye + glam::DVec3::new(3.0, 5.0, 2.0),
+            glam::DVec3::new(-4.0, 6.0, -3.0),
+        ];
+        let mut rec = rtlab::trace::NoRecorder::default();
+        for target in targets {
+            for by in (0..34).step_by(4) {
+                for bx in (0..45).step_by(4) {
+                    let (mut rays, mut t_max) = (Vec::new(), [0.0; BUNDLE]);
+                    for y in by..(by + 4).min(34) {
+                        for x in bx..(bx + 4).min(45) {
+                            let film = glam::DVec2::new(x as f64 + 0.5, y as f64 + 0.5);
+                            let cam = scene.camera.generate(film, None).0;
+                            let Some((_, h)) = scene.accel.closest(
+                                &scene.objects,
+                                &cam,
+                                1e-9,
+                                f64::INFINITY,
+                                &mut rec,
+                            ) else {
+                                continue;
+                            };
+                            let p = cam.at(h.t);
+                            let d = target - p;
+                            let dist = d.length();
+                            // Every other ray stops short of the target: t_max matters.
+                            t_max[rays.len()] = if (x + y) % 2 == 0 { dist } else { 0.5 * dist };
+                            rays.push(Ray::new(p, d / dist));
+                        }
+                    }
+                    if rays.is_empty() {
+                        continue;
+                    }
+                    let got = scene.accel.occluded_bundle(
+                        &scene.objects,
+                        &rays,
+                        1e-6,
+                        &t_max,
+                        &mut BundleCost::default(),
+                    );
+                    for (j, ray) in rays.iter().enumerate() {
+                        let single = scene
+                            .accel
+                            .occluded(&scene.objects, ray, 1e-6, t_max[j], &mut rec)
+                            .is_some();
+                        assert_eq!(
+                            got >> j & 1 == 1,
+                            single,
+                            "{}: shadow ray {j} of block ({bx}, {by})",
+                            p.display()
+                        );
+                        blocked_seen[single as usize] += 1;
+                    }
+                }
+            }
+        }
+    }
+    // Both verdicts were exercised, many times.
+    assert!(
+        blocked_seen[0] > 1000 && blocked_seen[1] > 1000,
+        "{blocked_seen:?}"
+    );
+}
