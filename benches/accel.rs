@@ -481,6 +481,20 @@ fn render_mrays_counting(
     (W * H) as f64 / out.trace_seconds / 1e6
 }
 
+/// Pixel (x, y)'s shadow ray, as the harness casts it: from its camera hit (None for a miss)
+/// towards the light, with the distance to the light as t_max.
+fn shadow_ray(cam: &HarnessCamera, camera: &CameraPass, x: usize, y: usize) -> Option<(Ray, f64)> {
+    let t = camera.t[y * W + x];
+    if t < 0.0 {
+        return None;
+    }
+    let light = glam::DVec3::from_array(cam.light.map(|x| x as f64));
+    let p = cam.ray(x, y).at(t);
+    let to_light = light - p;
+    let dist = to_light.length();
+    Some((Ray::new(p, to_light / dist), dist))
+}
+
 /// One shadow ray per camera hit, towards the harness's light, from t_min = 1e-4·R as the
 /// harness does. Returns (seconds, rays, occluded).
 fn shadow_pass(
@@ -489,26 +503,15 @@ fn shadow_pass(
     camera: &CameraPass,
     pool: &rayon::ThreadPool,
 ) -> (f64, u64, u64) {
-    let light = glam::DVec3::new(
-        cam.light[0] as f64,
-        cam.light[1] as f64,
-        cam.light[2] as f64,
-    );
     let eps = 1e-4 * cam.radius as f64;
     let start = Instant::now();
     let traced = per_tile(pool, |tile| {
         let (mut rays, mut occluded) = (0u64, 0u64);
         let mut rec = NoRecorder::default();
         for (x, y) in tile.pixels() {
-            let (x, y) = (x as usize, y as usize);
-            let t = camera.t[y * W + x];
-            if t < 0.0 {
+            let Some((ray, dist)) = shadow_ray(cam, camera, x as usize, y as usize) else {
                 continue;
-            }
-            let p = cam.ray(x, y).at(t);
-            let to_light = light - p;
-            let dist = to_light.length();
-            let ray = Ray::new(p, to_light / dist);
+            };
             rays += 1;
             occluded += scene
                 .accel
@@ -532,7 +535,6 @@ fn shadow_bundle_pass(
     pool: &rayon::ThreadPool,
 ) -> (f64, Vec<bool>) {
     use rtlab::accel::{BundleCost, BUNDLE};
-    let light = glam::DVec3::from_array(cam.light.map(|x| x as f64));
     let eps = 1e-4 * cam.radius as f64;
     let start = Instant::now();
     let traced = per_tile(pool, |tile| {
@@ -548,15 +550,11 @@ fn shadow_bundle_pass(
                 for y in by..(by + 4).min(tile.y.end) {
                     for x in bx..(bx + 4).min(tile.x.end) {
                         let (x, y) = (x as usize, y as usize);
-                        let t = camera.t[y * W + x];
-                        if t < 0.0 {
+                        let Some((ray, dist)) = shadow_ray(cam, camera, x, y) else {
                             continue;
-                        }
-                        let p = cam.ray(x, y).at(t);
-                        let to_light = light - p;
-                        let dist = to_light.length();
+                        };
                         t_max[rays.len()] = dist;
-                        rays.push(Ray::new(p, to_light / dist));
+                        rays.push(ray);
                         local.push((y - tile.y.start as usize) * tw + (x - tile.x.start as usize));
                     }
                 }
@@ -589,24 +587,14 @@ fn shadow_bundle_pass(
 /// Blocked or not per pixel that hit, row-major: the single-ray verdicts [`shadow_pass`]
 /// counts, for checking the bundles against.
 fn shadow_verdicts(scene: &Scene, cam: &HarnessCamera, camera: &CameraPass) -> Vec<bool> {
-    let light = glam::DVec3::from_array(cam.light.map(|x| x as f64));
     let eps = 1e-4 * cam.radius as f64;
     let mut rec = NoRecorder::default();
     (0..W * H)
-        .filter(|&i| camera.t[i] >= 0.0)
-        .map(|i| {
-            let p = cam.ray(i % W, i / W).at(camera.t[i]);
-            let to_light = light - p;
-            let dist = to_light.length();
+        .filter_map(|i| shadow_ray(cam, camera, i % W, i / W))
+        .map(|(ray, dist)| {
             scene
                 .accel
-                .occluded(
-                    &scene.objects,
-                    &Ray::new(p, to_light / dist),
-                    eps,
-                    dist,
-                    &mut rec,
-                )
+                .occluded(&scene.objects, &ray, eps, dist, &mut rec)
                 .is_some()
         })
         .collect()
