@@ -467,3 +467,36 @@ fn compare_and_steps_refuse_renders_too_large_for_memory() {
     }
     assert!(!dir.exists(), "steps made its folder before refusing");
 }
+
+/// A subsampled render reconstructs each pixel from the traced pixels alone (it skips the
+/// others, which own no samples). That is exactly the sum over every pixel in the filter's
+/// reach, as `explain` takes it: compared bit for bit with `explain`'s colour, for every
+/// pixel of small renders under each filter and several subsample factors.
+#[test]
+fn subsampled_reconstruction_skips_only_empty_pixels() {
+    let mut base = scene("scenes/spheres.json");
+    base.camera.update_size(23, 17);
+    for filter in [
+        FilterKind::Box,
+        FilterKind::Tent,
+        FilterKind::Gaussian,
+        FilterKind::Mitchell,
+    ] {
+        for k in [2, 3, 4] {
+            let mut s = with(&base, SamplerKind::Center, 1);
+            s.render.subsample = k;
+            s.render.filter = filter;
+            let img = run(&s).image;
+            for y in 0..17 {
+                for x in 0..23 {
+                    let e = explain(&s, x, y);
+                    assert_eq!(
+                        e.color.to_array(),
+                        img.get(x, y).to_array(),
+                        "{filter:?}, subsample {k}, pixel ({x}, {y})"
+                    );
+                }
+            }
+        }
+    }
+}
