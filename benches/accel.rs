@@ -18,7 +18,7 @@
 //! /work/shared/meshes).
 //!
 //! `cargo bench --bench accel -- --only PASS MESH [REPEATS]` runs one pass alone (single,
-//! bundle, render, render-bundle, render-stats or shadow), for profilers.
+//! bundle, render, render-bundle, render-stats, shadow or shadow-bundle), for profilers.
 //!
 //! Everything runs on 2 threads (rtlab: a rayon pool of 2; Embree: `threads=2`).
 
@@ -88,7 +88,7 @@ fn main() {
 }
 
 /// `--only PASS MESH [REPEATS]`: one pass (single, bundle, render, render-bundle,
-/// render-stats, shadow)
+/// render-stats, shadow, shadow-bundle)
 /// on one mesh, repeated, with nothing else in the process: for profilers (`perf stat`,
 /// `perf record`), which then see only that pass.
 fn only(args: &[String]) {
@@ -129,7 +129,7 @@ fn only(args: &[String]) {
                 rays as f64 / secs / 1e6
             }
             _ => {
-                panic!("{pass}: not single, bundle, render, render-bundle, render-stats or shadow")
+                panic!("{pass}: not single, bundle, render, render-bundle, render-stats, shadow or shadow-bundle")
             }
         });
     }

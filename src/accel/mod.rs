@@ -232,11 +232,7 @@ impl Accel {
         t_min: f64,
         cost: &mut BundleCost,
     ) -> [Option<(usize, LocalHit)>; BUNDLE] {
-        let all = if rays.len() >= 32 {
-            u32::MAX
-        } else {
-            (1u32 << rays.len()) - 1
-        };
+        let all = bundle_mask(rays);
         let mut best: [Option<(usize, LocalHit)>; BUNDLE] = [None; BUNDLE];
         let mut t_max = [f64::INFINITY; BUNDLE];
         for &i in &self.unbounded {
@@ -356,11 +352,7 @@ impl Accel {
         t_max: &[f64; BUNDLE],
         cost: &mut BundleCost,
     ) -> u32 {
-        let all = if rays.len() >= 32 {
-            u32::MAX
-        } else {
-            (1u32 << rays.len()) - 1
-        };
+        let all = bundle_mask(rays);
         let mut blocked = 0u32;
         for &i in &self.unbounded {
             blocked |= occluded_object_bundle(objects, i, rays, all & !blocked, t_min, t_max, cost);
@@ -462,6 +454,17 @@ fn test_object_bundle(
             }
         }
     }
+}
+
+/// The mask of a bundle's rays (bit i: ray i). A bundle holds at most [`BUNDLE`] rays: its
+/// arrays have that many lanes.
+fn bundle_mask(rays: &[Ray]) -> u32 {
+    assert!(
+        !rays.is_empty() && rays.len() <= BUNDLE,
+        "a bundle holds 1 to {BUNDLE} rays, not {}",
+        rays.len()
+    );
+    (1u32 << rays.len()) - 1
 }
 
 /// Does a hit (t, object index) come before the best so far? Closer first; on equal t the

@@ -354,8 +354,11 @@ fn render_with<R: Tally>(
         .filter_map(|t| t.3 .1)
         .min_by_key(|&(x, y, _)| (y, x));
     let mut stats: Option<RenderStats> = None;
-    for [tests, nodes] in row_major_order(w, h).filter_map(|(t, l)| traced[t].1 .0.get(l).copied())
-    {
+    // Counting, every pixel of every tile has its counts (a short tile was cancelled, and a
+    // cancelled render returned above): index them, so that a gap could never shift a
+    // pixel's counts onto another.
+    let counted = row_major_order(w, h).filter(|_| R::COUNTS);
+    for [tests, nodes] in counted.map(|(t, l)| traced[t].1 .0[l]) {
         let st = stats.get_or_insert_with(RenderStats::default);
         st.tests += tests;
         st.nodes += nodes;
@@ -564,9 +567,14 @@ mod tests {
                 for lo in -10i64..=n as i64 + 2 {
                     for hi in lo - 1..=lo + 12 {
                         let got: Vec<u32> = Lines(k).within(lo, hi, n).collect();
+                        // The renderer's own rule, along one axis (the other at 0).
+                        let settings = RenderSettings {
+                            subsample: k,
+                            ..Default::default()
+                        };
                         let want: Vec<u32> = (lo.max(0)..=hi.min(n as i64 - 1))
                             .map(|q| q as u32)
-                            .filter(|&q| q % k == 0 || q + 1 == n)
+                            .filter(|&q| super::super::traces_samples(&settings, n, 1, q, 0))
                             .collect();
                         assert_eq!(got, want, "n {n}, k {k}, {lo}..={hi}");
                     }

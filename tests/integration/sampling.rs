@@ -471,7 +471,8 @@ fn compare_and_steps_refuse_renders_too_large_for_memory() {
 /// A subsampled render reconstructs each pixel from the traced pixels alone (it skips the
 /// others, which own no samples). That is exactly the sum over every pixel in the filter's
 /// reach, as `explain` takes it: compared bit for bit with `explain`'s colour, for every
-/// pixel of small renders under each filter and several subsample factors.
+/// pixel of small renders under each filter, several subsample factors and samplers (the
+/// corner sampler's border samples and reach included).
 #[test]
 fn subsampled_reconstruction_skips_only_empty_pixels() {
     let mut base = scene("scenes/spheres.json");
@@ -482,8 +483,14 @@ fn subsampled_reconstruction_skips_only_empty_pixels() {
         FilterKind::Gaussian,
         FilterKind::Mitchell,
     ] {
-        for k in [2, 3, 4] {
-            let mut s = with(&base, SamplerKind::Center, 1);
+        for (k, sampler, spp) in [
+            (2, SamplerKind::Center, 1),
+            (3, SamplerKind::Center, 1),
+            (4, SamplerKind::Center, 1),
+            (3, SamplerKind::Corners, 1),
+            (2, SamplerKind::Jittered, 4),
+        ] {
+            let mut s = with(&base, sampler, spp);
             s.render.subsample = k;
             s.render.filter = filter;
             let img = run(&s).image;
@@ -493,7 +500,7 @@ fn subsampled_reconstruction_skips_only_empty_pixels() {
                     assert_eq!(
                         e.color.to_array(),
                         img.get(x, y).to_array(),
-                        "{filter:?}, subsample {k}, pixel ({x}, {y})"
+                        "{filter:?}, {sampler:?}, subsample {k}, pixel ({x}, {y})"
                     );
                 }
             }

@@ -218,7 +218,8 @@ function setStatus(text, error) {
 }
 
 // The progressive render's passes (`rtlab render --passes K`): pass 1 first, the preview
-// (one pixel in 4×4 traced, the filter stretched over the rest), then pass 2, the scene's
+// (the scene's subsample times 4: one pixel in 4×4 traced, the filter stretched over the
+// rest, for a scene that traces every pixel), then pass 2, the scene's
 // own settings: the full image; the selected pixel's explanation follows. A newer call
 // makes older answers stale (and cancels them on the server).
 async function rerender() {
@@ -237,7 +238,7 @@ async function rerender() {
     if (stale()) return;
     showSceneInfo(info);
     if (info.width * info.height > 64 * 64) {
-      setStatus("pass 1, the preview (one pixel in 4×4 traced)…");
+      setStatus("pass 1, the preview (4× the scene's subsample)…");
       const p = await loadImage("/api/render.png?" + join(q, "pass=1", own), controller.signal);
       if (stale()) return;
       if (p) {
