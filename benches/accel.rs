@@ -410,35 +410,43 @@ fn mesh_only_seconds(scene: &Scene, cam: &HarnessCamera, pool: &rayon::ThreadPoo
     seconds
 }
 
+/// The 4×4 blocks of pixels of a tile, one after another: `block(pixels)` gets each
+/// block's pixels as (x, y, index in the tile's row-major order).
+fn each_block(tile: &rtlab::sampling::Tile, mut block: impl FnMut(&[(usize, usize, usize)])) {
+    let tw = tile.x.len();
+    let mut pixels = arrayvec::ArrayVec::<_, 16>::new();
+    for by in tile.y.clone().step_by(4) {
+        for bx in tile.x.clone().step_by(4) {
+            pixels.clear();
+            for y in by..(by + 4).min(tile.y.end) {
+                for x in bx..(bx + 4).min(tile.x.end) {
+                    let local = (y - tile.y.start) as usize * tw + (x - tile.x.start) as usize;
+                    pixels.push((x as usize, y as usize, local));
+                }
+            }
+            block(&pixels);
+        }
+    }
+}
+
 /// The camera rays in bundles of 4×4 pixels within each tile, through
 /// `Accel::closest_bundle`: seconds and t per pixel (−1 for a miss), row-major.
 fn bundle_pass(scene: &Scene, cam: &HarnessCamera, pool: &rayon::ThreadPool) -> (f64, Vec<f64>) {
-    use rtlab::accel::{BundleCost, BUNDLE};
+    use rtlab::accel::BundleCost;
     let start = Instant::now();
     let traced = per_tile(pool, |tile| {
         let mut t = vec![-1.0; tile.len()];
-        let tw = tile.x.len();
-        let mut rays = Vec::with_capacity(BUNDLE);
-        let mut local = Vec::with_capacity(BUNDLE);
-        for by in tile.y.clone().step_by(4) {
-            for bx in tile.x.clone().step_by(4) {
-                rays.clear();
-                local.clear();
-                for y in by..(by + 4).min(tile.y.end) {
-                    for x in bx..(bx + 4).min(tile.x.end) {
-                        rays.push(cam.ray(x as usize, y as usize));
-                        local.push((y - tile.y.start) as usize * tw + (x - tile.x.start) as usize);
-                    }
-                }
-                let mut cost = BundleCost::default();
-                let hits = scene
-                    .accel
-                    .closest_bundle(&scene.objects, &rays, 0.0, &mut cost);
-                for (j, &l) in local.iter().enumerate() {
-                    t[l] = hits[j].map_or(-1.0, |(_, h)| h.t);
-                }
+        each_block(tile, |pixels| {
+            let rays: arrayvec::ArrayVec<Ray, 16> =
+                pixels.iter().map(|&(x, y, _)| cam.ray(x, y)).collect();
+            let mut cost = BundleCost::default();
+            let hits = scene
+                .accel
+                .closest_bundle(&scene.objects, &rays, 0.0, &mut cost);
+            for (j, &(_, _, l)) in pixels.iter().enumerate() {
+                t[l] = hits[j].map_or(-1.0, |(_, h)| h.t);
             }
-        }
+        });
         t
     });
     let seconds = start.elapsed().as_secs_f64();
@@ -539,37 +547,28 @@ fn shadow_bundle_pass(
     let start = Instant::now();
     let traced = per_tile(pool, |tile| {
         let mut blocked = vec![false; tile.len()];
-        let tw = tile.x.len();
-        let mut rays = Vec::with_capacity(BUNDLE);
-        let mut local = Vec::with_capacity(BUNDLE);
-        let mut t_max = [0.0; BUNDLE];
-        for by in tile.y.clone().step_by(4) {
-            for bx in tile.x.clone().step_by(4) {
-                rays.clear();
-                local.clear();
-                for y in by..(by + 4).min(tile.y.end) {
-                    for x in bx..(bx + 4).min(tile.x.end) {
-                        let (x, y) = (x as usize, y as usize);
-                        let Some((ray, dist)) = shadow_ray(cam, camera, x, y) else {
-                            continue;
-                        };
-                        t_max[rays.len()] = dist;
-                        rays.push(ray);
-                        local.push((y - tile.y.start as usize) * tw + (x - tile.x.start as usize));
-                    }
-                }
-                if rays.is_empty() {
-                    continue;
-                }
-                let mut cost = BundleCost::default();
-                let b = scene
-                    .accel
-                    .occluded_bundle(&scene.objects, &rays, eps, &t_max, &mut cost);
-                for (j, &l) in local.iter().enumerate() {
-                    blocked[l] = b >> j & 1 == 1;
+        each_block(tile, |pixels| {
+            let mut rays = arrayvec::ArrayVec::<Ray, BUNDLE>::new();
+            let mut local = arrayvec::ArrayVec::<usize, BUNDLE>::new();
+            let mut t_max = [0.0; BUNDLE];
+            for &(x, y, l) in pixels {
+                if let Some((ray, dist)) = shadow_ray(cam, camera, x, y) {
+                    t_max[rays.len()] = dist;
+                    rays.push(ray);
+                    local.push(l);
                 }
             }
-        }
+            if rays.is_empty() {
+                return;
+            }
+            let mut cost = BundleCost::default();
+            let b = scene
+                .accel
+                .occluded_bundle(&scene.objects, &rays, eps, &t_max, &mut cost);
+            for (j, &l) in local.iter().enumerate() {
+                blocked[l] = b >> j & 1 == 1;
+            }
+        });
         blocked
     });
     let seconds = start.elapsed().as_secs_f64();
