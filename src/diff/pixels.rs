@@ -102,12 +102,12 @@ pub struct Ledger {
     pub color: DVec3,
 }
 
-/// Keeps the [`Ledger`] of the camera ray's hit (events while exactly one ray is open).
+/// Keeps the [`Ledger`] of the camera ray's hit (events while exactly one ray is open, as
+/// its [`HitRecorder`] tells).
 #[derive(Debug, Default)]
 pub struct LedgerRecorder {
     pub ledger: Ledger,
-    open: u32,
-    obs: NoObserver,
+    camera: HitRecorder,
 }
 
 impl LedgerRecorder {
@@ -129,42 +129,41 @@ impl Recorder for LedgerRecorder {
     type Obs = NoObserver;
     const ACTIVE: bool = true;
     fn observer(&mut self) -> &mut NoObserver {
-        &mut self.obs
+        self.camera.observer()
     }
-    fn begin_ray(&mut self, _kind: RayKind, _depth: u32, _ray: &Ray) {
-        self.open += 1;
+    fn begin_ray(&mut self, kind: RayKind, depth: u32, ray: &Ray) {
+        self.camera.begin_ray(kind, depth, ray);
     }
-    fn end_ray(&mut self, _c: DVec3, _end: crate::trace::End, _clamped: bool) {
-        self.open -= 1;
+    fn end_ray(&mut self, c: DVec3, end: crate::trace::End, clamped: bool) {
+        self.camera.end_ray(c, end, clamped);
     }
     fn hit(&mut self, hit: &HitInfo) {
-        if self.open == 1 {
-            self.ledger.hit = Some((hit.object, hit.local.surface));
-        }
+        self.camera.hit(hit);
+        self.ledger.hit = self.camera.hit;
     }
     fn ambient(&mut self, c: DVec3) {
-        if self.open == 1 {
+        if self.camera.at_camera_ray() {
             self.ledger.ambient += c;
         }
     }
     fn light(&mut self, t: &LightTerm) {
-        if self.open == 1 {
+        if self.camera.at_camera_ray() {
             self.ledger.diffuse[t.light] += t.diffuse;
             self.ledger.specular[t.light] += t.specular;
         }
     }
     fn ignored_light(&mut self, t: &LightTerm) {
-        if self.open == 1 {
+        if self.camera.at_camera_ray() {
             self.ledger.ignored[t.light] += t.diffuse + t.specular;
         }
     }
     fn reflected(&mut self, c: DVec3) {
-        if self.open == 1 {
+        if self.camera.at_camera_ray() {
             self.ledger.reflected += c;
         }
     }
     fn transmitted(&mut self, c: DVec3) {
-        if self.open == 1 {
+        if self.camera.at_camera_ray() {
             self.ledger.transmitted += c;
         }
     }
@@ -205,9 +204,16 @@ impl Recorder for HitRecorder {
         self.open -= 1;
     }
     fn hit(&mut self, hit: &HitInfo) {
-        if self.open == 1 {
+        if self.at_camera_ray() {
             self.hit = Some((hit.object, hit.local.surface));
         }
+    }
+}
+
+impl HitRecorder {
+    /// Is the camera ray the only one open (are events about its own hit)?
+    fn at_camera_ray(&self) -> bool {
+        self.open == 1
     }
 }
 
