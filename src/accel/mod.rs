@@ -385,8 +385,7 @@ fn occluded_object_bundle(
     }
     let object = &objects[i];
     let n = rays.len();
-    let local: [Ray; BUNDLE] =
-        std::array::from_fn(|r| object.transform.ray_to_object(&rays[r.min(n - 1)]));
+    let local = to_object(object, rays, mask);
     if let crate::shapes::Shape::Mesh(m) = &object.shape {
         let mut work = BundleWork::default();
         let blocked = m.occluded_bundle(&local[..n], mask, t_min, t_max, &mut work);
@@ -422,8 +421,7 @@ fn test_object_bundle(
 ) {
     let object = &objects[i];
     let n = rays.len();
-    let local: [Ray; BUNDLE] =
-        std::array::from_fn(|r| object.transform.ray_to_object(&rays[r.min(n - 1)]));
+    let local = to_object(object, rays, mask);
     let hits: [Option<LocalHit>; BUNDLE] = match &object.shape {
         crate::shapes::Shape::Mesh(m) => {
             let mut work = BundleWork::default();
@@ -454,6 +452,21 @@ fn test_object_bundle(
             }
         }
     }
+}
+
+/// A bundle's rays in `object`'s space: those in `mask` taken there, the others left as
+/// they are (placeholders in the lanes the mask leaves out, never read), so a bundle that
+/// reaches an object with few of its rays transforms only those.
+fn to_object(object: &Object, rays: &[Ray], mask: u32) -> [Ray; BUNDLE] {
+    let n = rays.len();
+    std::array::from_fn(|r| {
+        let ray = &rays[r.min(n - 1)];
+        if mask >> r & 1 == 1 {
+            object.transform.ray_to_object(ray)
+        } else {
+            *ray
+        }
+    })
 }
 
 /// The mask of a bundle's rays (bit i: ray i). A bundle holds at most [`BUNDLE`] rays: its
