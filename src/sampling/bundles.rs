@@ -4,10 +4,10 @@
 //! tracer then shades each sample as usual, from its hit ([`crate::trace::trace_camera`]).
 
 use super::film::Tile;
-use super::sampler::{planned_films, traces_samples};
+use super::sampler::planned_films_into;
 use crate::accel::{BundleCost, BUNDLE};
 use crate::math::Ray;
-use crate::scene::{RenderSettings, SamplerKind, Scene};
+use crate::scene::{RenderSettings, Scene};
 use crate::trace::{camera_ray, CameraRay, Found};
 use arrayvec::ArrayVec;
 use glam::DVec2;
@@ -62,11 +62,8 @@ pub fn tile_camera_rays(
     let mut starts: Vec<u32> = Vec::with_capacity(tile.len() + 1);
     starts.push(0);
     for (x, y) in tile.pixels() {
-        if settings.sampler == SamplerKind::Center && traces_samples(settings, w, h, x, y) {
-            // The one-sample case, as `sample_pixel_into` traces it, without a list of one.
-            films.push(DVec2::new(x as f64, y as f64) + DVec2::splat(0.5));
-        } else {
-            films.extend(planned_films(settings, w, h, x, y)?);
+        if !planned_films_into(settings, w, h, x, y, &mut films) {
+            return None;
         }
         starts.push(films.len() as u32);
     }

@@ -50,6 +50,11 @@ pub struct PixelSample {
     pub color: DVec3,
 }
 
+/// The centre of pixel (x, y) on the film: the centre sampler's one sample.
+fn centre(x: u32, y: u32) -> DVec2 {
+    DVec2::new(x as f64, y as f64) + DVec2::splat(0.5)
+}
+
 // ANCHOR: samplers
 /// The film positions of the fixed sampling patterns for pixel (x, y), in sample-index order.
 /// Random positions come from (seed, pixel, sample index) alone. `Corners` lists the centre
@@ -59,7 +64,7 @@ pub fn pixel_samples(kind: SamplerKind, spp: u32, seed: u64, x: u32, y: u32) -> 
     let corner = DVec2::new(x as f64, y as f64);
     let rng = |k: u32| Rng::new(&[seed, x as u64, y as u64, k as u64, 0x5A3B]);
     match kind {
-        SamplerKind::Center => vec![corner + DVec2::splat(0.5)],
+        SamplerKind::Center => vec![centre(x, y)],
         // n×n strata; grid takes each stratum's centre, jittered a random point inside it.
         SamplerKind::Grid | SamplerKind::Jittered => {
             let n = (spp as f64).sqrt().round() as u32;
@@ -140,18 +145,35 @@ pub fn planned_films(
     x: u32,
     y: u32,
 ) -> Option<Vec<DVec2>> {
+    let mut films = Vec::new();
+    planned_films_into(settings, width, height, x, y, &mut films).then_some(films)
+}
+
+/// [`planned_films`], appended to `out` (false, and nothing appended, for the adaptive
+/// sampler): the renderer keeps a tile's films in one vector, and the one-sample case needs
+/// no list of its own.
+pub fn planned_films_into(
+    settings: &RenderSettings,
+    width: u32,
+    height: u32,
+    x: u32,
+    y: u32,
+    out: &mut Vec<DVec2>,
+) -> bool {
     if !traces_samples(settings, width, height, x, y) {
-        return Some(Vec::new());
+        return true;
     }
-    Some(match settings.sampler {
-        SamplerKind::Adaptive => return None,
+    match settings.sampler {
+        SamplerKind::Adaptive => return false,
+        // What `pixel_samples` gives the centre sampler, without a list of one.
+        SamplerKind::Center => out.push(centre(x, y)),
         SamplerKind::Corners => {
-            let mut v = vec![DVec2::new(x as f64 + 0.5, y as f64 + 0.5)];
-            v.extend(owned_corners(x, y, width, height));
-            v
+            out.push(centre(x, y));
+            out.extend(owned_corners(x, y, width, height));
         }
-        kind => pixel_samples(kind, settings.spp, settings.seed, x, y),
-    })
+        kind => out.extend(pixel_samples(kind, settings.spp, settings.seed, x, y)),
+    }
+    true
 }
 
 /// Traces the samples pixel (x, y) of a `width`×`height` image owns, calling `trace(index,
@@ -184,7 +206,7 @@ pub fn sample_pixel_into(
 ) {
     if settings.sampler == SamplerKind::Center && traces_samples(settings, width, height, x, y) {
         // The one-sample case, without a list of one film position.
-        let film = DVec2::new(x as f64, y as f64) + DVec2::splat(0.5);
+        let film = centre(x, y);
         let color = trace(0, film);
         out.push(PixelSample {
             index: 0,
