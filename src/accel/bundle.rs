@@ -75,6 +75,7 @@ impl Bvh {
         let n = rays.len();
         debug_assert!(n <= BUNDLE && n > 0);
         let boxes: [RayBox; BUNDLE] = std::array::from_fn(|i| RayBox::new(&rays[i.min(n - 1)]));
+        debug_assert!(t_min >= 0.0, "bundles are rays, not lines");
         let t_min32 = down(t_min);
         let mut t_max32: [f32; BUNDLE] = std::array::from_fn(|i| up(t_max[i]));
         let mut stack = ArrayVec::<Pending, STACK>::new();
@@ -90,7 +91,7 @@ impl Bvh {
                 let i = m.trailing_zeros() as usize;
                 m &= m - 1;
                 work.ray_nodes[i] += 1;
-                let (hit, t) = nd.enter(&boxes[i], t_min32, t_max32[i]);
+                let (hit, t) = nd.enter::<false>(&boxes[i], t_min32, t_max32[i]);
                 for (lane, lane_near) in near.iter_mut().enumerate() {
                     lane_rays[lane] |= ((hit >> lane) & 1) << i;
                     lane_near[i] = t[lane];
@@ -180,6 +181,7 @@ impl Bvh {
         }
         let n = rays.len();
         let boxes: [RayBox; BUNDLE] = std::array::from_fn(|i| RayBox::new(&rays[i.min(n - 1)]));
+        debug_assert!(t_min >= 0.0, "bundles are rays, not lines");
         let t_min32 = down(t_min);
         let t_max32: [f32; BUNDLE] = std::array::from_fn(|i| up(t_max[i]));
         let mut blocked = 0u32;
@@ -198,7 +200,7 @@ impl Bvh {
                 let i = m.trailing_zeros() as usize;
                 m &= m - 1;
                 work.ray_nodes[i] += 1;
-                let (hit, _) = nd.enter(&boxes[i], t_min32, t_max32[i]);
+                let (hit, _) = nd.enter::<false>(&boxes[i], t_min32, t_max32[i]);
                 for (lane, r) in lane_rays.iter_mut().enumerate() {
                     *r |= ((hit >> lane) & 1) << i;
                 }

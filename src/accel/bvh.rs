@@ -122,21 +122,34 @@ impl Node {
     /// t > 3.4·10³⁸, counts as missed; scene coordinates are limited far below that.) A ray parallel to a slab and
     /// starting exactly on its plane makes 0·∞ = NaN; `max(t, near)` and `min(t, far)` keep
     /// `near` and `far` when `t` is NaN, which leaves that axis unconstrained.
+    ///
+    /// `SIGNED` is for a t_min below zero (a line rather than a ray, as CSG's crossings ask):
+    /// then an entry or exit may be negative, and the widening must know its sign. With
+    /// t_min ≥ 0 the entry is never negative, and a negative exit culls the box either way.
     #[inline(always)]
-    pub(super) fn enter(&self, r: &RayBox, t_min: f32, t_max: f32) -> (u32, [f32; WIDTH]) {
-        let mut near = FW::splat(t_min);
-        let mut far = FW::splat(t_max);
-        for k in 0..3 {
-            let inv = FW::splat(r.inv[k]);
+    pub(super) fn enter<const SIGNED: bool>(
+        &self,
+        r: &RayBox,
+        t_min: f32,
+        t_max: f32,
+    ) -> (u32, [f32; WIDTH]) {
+        let slab = |k: usize| {
             let (enter, exit) = (r.neg[k] as usize, !r.neg[k] as usize);
+            let inv = FW::splat(r.inv[k]);
             let t_in = (FW::load(&self.planes[enter][k]) - FW::splat(r.origin_in[k])) * inv;
             let t_out = (FW::load(&self.planes[exit][k]) - FW::splat(r.origin_out[k])) * inv;
-            near = t_in.max_or(near);
-            far = t_out.min_or(far);
-        }
-        let rel = FW::splat(GAMMA5);
-        let near = near - near.abs() * rel;
-        let far = far + far.abs() * rel;
+            (t_in, t_out)
+        };
+        let ((x_in, x_out), (y_in, y_out), (z_in, z_out)) = (slab(0), slab(1), slab(2));
+        let near = z_in.max_or(y_in.max_or(x_in.max_or(FW::splat(t_min))));
+        let far = z_out.min_or(y_out.min_or(x_out.min_or(FW::splat(t_max))));
+        // Widened by the rounding bound (see [`SHRINK`]): one product each when t ≥ 0.
+        let (near, far) = if SIGNED {
+            let (s, g) = (FW::splat(SHRINK), FW::splat(GROW));
+            ((near * s).min_or(near * g), (far * g).max_or(far * s))
+        } else {
+            (near * FW::splat(SHRINK), far * FW::splat(GROW))
+        };
         (near.le_mask(far), near.0)
     }
     // ANCHOR_END: slab
@@ -150,7 +163,7 @@ impl Node {
 /// 1/d > 0, at or below when 1/d < 0; see [`bracket`]), and the exact exit from above by
 /// taking the other side. What is left
 /// are the three f32 roundings of (plane − o′)·(1/d) itself (the subtraction, 1/d, the
-/// product): relative errors, covered by widening by [`GAMMA5`]·|t|.
+/// product): relative errors, covered by widening by [`SHRINK`] and [`GROW`].
 #[derive(Debug, Clone, Copy)]
 pub(super) struct RayBox {
     origin_in: [f32; 3],
@@ -159,9 +172,15 @@ pub(super) struct RayBox {
     neg: [bool; 3],
 }
 
-/// γ(n) = n·u / (1 − n·u) for f32 (u = 2⁻²⁴), Higham's bound on the error of n roundings;
-/// γ(5) leaves a margin over the three the slab test makes.
-const GAMMA5: f32 = 5.0 * (f32::EPSILON * 0.5) / (1.0 - 5.0 * (f32::EPSILON * 0.5));
+/// How far the slab test's entry and exit are moved apart to cover its rounding. Each
+/// computed t is the exact (bracketed) one times (1 + θ) with |θ| ≤ γ(3) ≈ 3u (u = 2⁻²⁴, the
+/// subtraction, 1/d and the product), and the widening product is rounded once more. So an
+/// entry t ≥ 0 times 1 − 5u (rounded) is at most (1 + 3u)(1 − 5u)(1 + u) ≈ 1 − u times the
+/// exact one: never later; an exit times 1 + 6u (the next f32 above 1 + 5u) is at least
+/// (1 − 3u)(1 + 6u)(1 − u) ≈ 1 + 2u times it: never earlier. For t < 0 the two factors swap
+/// roles ([`Node::enter`]'s `SIGNED`).
+const SHRINK: f32 = 1.0 - 5.0 * (f32::EPSILON * 0.5);
+const GROW: f32 = 1.0 + 3.0 * f32::EPSILON;
 
 impl RayBox {
     #[inline(always)]
@@ -216,10 +235,6 @@ impl FW {
                 o.0[i]
             }
         }))
-    }
-    #[inline(always)]
-    fn abs(self) -> FW {
-        FW(self.0.map(f32::abs))
     }
     /// Bit i set where lane i of self ≤ lane i of other (clear for NaN).
     #[inline(always)]
@@ -423,6 +438,7 @@ impl Bvh {
     /// in slot `k` of `prims` (callers keep their data in that order) and returns its t and
     /// data if it is hit within t_max.
     /// `visited` counts the nodes opened (for the cost map and explain).
+    /// The ray starts at t_min ≥ 0 (a ray, not a line).
     #[inline]
     pub fn closest<T>(
         &self,
@@ -432,11 +448,12 @@ impl Bvh {
         visited: &mut u32,
         mut test: impl FnMut(usize, f64) -> Option<(f64, T)>,
     ) -> Option<(usize, T)> {
+        debug_assert!(t_min >= 0.0, "closest hits are along rays, not lines");
         let root = self.nodes.first()?;
         let r = RayBox::new(ray);
         let (t_min32, mut t_max32) = (down(t_min), up(t_max));
         *visited += 1;
-        let (mask, near) = root.enter(&r, t_min32, t_max32);
+        let (mask, near) = root.enter::<false>(&r, t_min32, t_max32);
         if mask == 0 {
             return None; // most rays of a typical image: no stack to set up
         }
@@ -458,7 +475,7 @@ impl Bvh {
             if count == 0 {
                 *visited += 1;
                 let node = &self.nodes[child];
-                let (mask, near) = node.enter(&r, t_min32, t_max32);
+                let (mask, near) = node.enter::<false>(&r, t_min32, t_max32);
                 if mask != 0 {
                     next = Some(nearest_pushing_rest(&mut stack, node, mask, &near));
                 }
@@ -486,6 +503,31 @@ impl Bvh {
         t_min: f64,
         t_max: f64,
         visited: &mut u32,
+        test: impl FnMut(usize) -> bool,
+    ) -> Option<usize> {
+        debug_assert!(t_min >= 0.0, "a ray; `any_on_line` is for lines");
+        self.any_in::<false>(ray, t_min, t_max, visited, test)
+    }
+
+    /// [`Bvh::any`] along the whole line P + t·d, every t (CSG's crossings): the slab test
+    /// then widens negative entries and exits too.
+    pub fn any_on_line(
+        &self,
+        ray: &Ray,
+        visited: &mut u32,
+        test: impl FnMut(usize) -> bool,
+    ) -> Option<usize> {
+        let all = (f64::NEG_INFINITY, f64::INFINITY);
+        self.any_in::<true>(ray, all.0, all.1, visited, test)
+    }
+
+    #[inline(always)]
+    fn any_in<const SIGNED: bool>(
+        &self,
+        ray: &Ray,
+        t_min: f64,
+        t_max: f64,
+        visited: &mut u32,
         mut test: impl FnMut(usize) -> bool,
     ) -> Option<usize> {
         if self.nodes.is_empty() {
@@ -498,7 +540,7 @@ impl Bvh {
         loop {
             *visited += 1;
             let n = &self.nodes[node];
-            let (mut mask, _) = n.enter(&r, t_min32, t_max32);
+            let (mut mask, _) = n.enter::<SIGNED>(&r, t_min32, t_max32);
             while mask != 0 {
                 let lane = mask.trailing_zeros() as usize;
                 mask &= mask - 1;
@@ -1150,8 +1192,15 @@ mod tests {
                 node.planes[0][axis][2] = stored.min[axis];
                 node.planes[1][axis][2] = stored.max[axis];
             }
-            let (t_min, t_max) = (0.0, [f64::INFINITY, t_hit][(f() > 0.0) as usize]);
-            let (mask, near) = node.enter(&RayBox::new(&ray), down(t_min), up(t_max));
+            // Rays from t = 0, and lines (t from −∞, or from a t before the box) as CSG asks.
+            let t_min = [0.0, 0.0, f64::NEG_INFINITY, -t_hit][(f().abs() * 3.99) as usize];
+            let t_max = [f64::INFINITY, t_hit][(f() > 0.0) as usize];
+            let r = RayBox::new(&ray);
+            let (mask, near) = if t_min >= 0.0 {
+                node.enter::<false>(&r, down(t_min), up(t_max))
+            } else {
+                node.enter::<true>(&r, down(t_min), up(t_max))
+            };
             assert_eq!(mask & !0b100, 0, "empty lanes are never entered");
             let bounds = node.bounds(2);
             let inv = ray.dir.recip();

@@ -291,17 +291,16 @@ impl Mesh {
     /// CSG interval query of a closed mesh; the test per face is the same Cramer solve.
     pub fn crossings(&self, ray: &Ray, mut found: impl FnMut(LocalHit, bool)) {
         let mut visited = 0;
-        self.bvh
-            .any(ray, f64::NEG_INFINITY, f64::INFINITY, &mut visited, |k| {
-                let i = self.bvh.prims[k] as usize;
-                let (lo, hi) = (f64::NEG_INFINITY, f64::INFINITY);
-                if let Some(b) = cramer_hit_prepared(&self.packed[k].prepared(), ray, lo, hi) {
-                    let tri = self.triangle(i);
-                    let entering = tri.geometric_normal().dot(ray.dir) < 0.0;
-                    found(tri.local_hit(ray, &b, i as u32), entering);
-                }
-                false // keep going: every crossing counts
-            });
+        self.bvh.any_on_line(ray, &mut visited, |k| {
+            let i = self.bvh.prims[k] as usize;
+            let (lo, hi) = (f64::NEG_INFINITY, f64::INFINITY);
+            if let Some(b) = cramer_hit_prepared(&self.packed[k].prepared(), ray, lo, hi) {
+                let tri = self.triangle(i);
+                let entering = tri.geometric_normal().dot(ray.dir) < 0.0;
+                found(tri.local_hit(ray, &b, i as u32), entering);
+            }
+            false // keep going: every crossing counts
+        });
     }
 
     /// True when every edge is shared by exactly two faces (a closed, watertight surface):
