@@ -461,32 +461,37 @@ impl Bvh {
         let mut stack = ArrayVec::<Pending, STACK>::new();
         // The nearest child the ray enters is opened next without going through the stack;
         // only its siblings wait there.
-        let mut next = Some(nearest_pushing_rest(&mut stack, root, mask, &near));
-        while let Some(Pending {
-            t_enter,
-            child,
-            count,
-        }) = next.take().or_else(|| stack.pop())
-        {
-            if t_enter as f64 > t_max {
-                continue; // a closer hit was found since this child was pushed
-            }
-            let child = child as usize;
-            if count == 0 {
-                *visited += 1;
-                let node = &self.nodes[child];
-                let (mask, near) = node.enter::<false>(&r, t_min32, t_max32);
-                if mask != 0 {
-                    next = Some(nearest_pushing_rest(&mut stack, node, mask, &near));
-                }
-            } else {
-                for k in child..child + count as usize {
-                    if let Some((t, data)) = test(k, t_max) {
-                        t_max = t;
-                        t_max32 = up(t);
-                        best = Some((k, data));
+        let mut next = nearest_pushing_rest(&mut stack, root, mask, &near);
+        loop {
+            let Pending {
+                t_enter,
+                child,
+                count,
+            } = next;
+            // Unless a closer hit was found since this child was pushed: open it.
+            if t_enter as f64 <= t_max {
+                let child = child as usize;
+                if count == 0 {
+                    *visited += 1;
+                    let node = &self.nodes[child];
+                    let (mask, near) = node.enter::<false>(&r, t_min32, t_max32);
+                    if mask != 0 {
+                        next = nearest_pushing_rest(&mut stack, node, mask, &near);
+                        continue;
+                    }
+                } else {
+                    for k in child..child + count as usize {
+                        if let Some((t, data)) = test(k, t_max) {
+                            t_max = t;
+                            t_max32 = up(t);
+                            best = Some((k, data));
+                        }
                     }
                 }
+            }
+            match stack.pop() {
+                Some(p) => next = p,
+                None => break,
             }
         }
         best
