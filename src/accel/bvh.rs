@@ -438,9 +438,36 @@ impl Bvh {
     /// in slot `k` of `prims` (callers keep their data in that order) and returns its t and
     /// data if it is hit within t_max.
     /// `visited` counts the nodes opened (for the cost map and explain).
-    /// The ray starts at t_min ≥ 0 (a ray, not a line).
+    /// The ray starts at t_min ≥ 0; a line (t_min < 0) takes [`Bvh::closest_on_line`].
     #[inline]
     pub fn closest<T>(
+        &self,
+        ray: &Ray,
+        t_min: f64,
+        t_max: f64,
+        visited: &mut u32,
+        test: impl FnMut(usize, f64) -> Option<(f64, T)>,
+    ) -> Option<(usize, T)> {
+        debug_assert!(t_min >= 0.0, "a ray; `closest_on_line` is for lines");
+        self.closest_in::<false, T>(ray, t_min, t_max, visited, test)
+    }
+
+    /// [`Bvh::closest`] from a t_min below zero (a line, as the slice figures ask): the slab
+    /// test then widens negative entries and exits too. A walk of its own, so that the rays'
+    /// walk stays lean (a branch between the two in one function cost 5% more instructions).
+    pub fn closest_on_line<T>(
+        &self,
+        ray: &Ray,
+        t_min: f64,
+        t_max: f64,
+        visited: &mut u32,
+        test: impl FnMut(usize, f64) -> Option<(f64, T)>,
+    ) -> Option<(usize, T)> {
+        self.closest_in::<true, T>(ray, t_min, t_max, visited, test)
+    }
+
+    #[inline(always)]
+    fn closest_in<const SIGNED: bool, T>(
         &self,
         ray: &Ray,
         t_min: f64,
@@ -448,12 +475,11 @@ impl Bvh {
         visited: &mut u32,
         mut test: impl FnMut(usize, f64) -> Option<(f64, T)>,
     ) -> Option<(usize, T)> {
-        debug_assert!(t_min >= 0.0, "closest hits are along rays, not lines");
         let root = self.nodes.first()?;
         let r = RayBox::new(ray);
         let (t_min32, mut t_max32) = (down(t_min), up(t_max));
         *visited += 1;
-        let (mask, near) = root.enter::<false>(&r, t_min32, t_max32);
+        let (mask, near) = root.enter::<SIGNED>(&r, t_min32, t_max32);
         if mask == 0 {
             return None; // most rays of a typical image: no stack to set up
         }
@@ -474,7 +500,7 @@ impl Bvh {
                 if count == 0 {
                     *visited += 1;
                     let node = &self.nodes[child];
-                    let (mask, near) = node.enter::<false>(&r, t_min32, t_max32);
+                    let (mask, near) = node.enter::<SIGNED>(&r, t_min32, t_max32);
                     if mask != 0 {
                         next = nearest_pushing_rest(&mut stack, node, mask, &near);
                         continue;
@@ -1267,6 +1293,32 @@ mod tests {
         }
     }
 
+    /// Flat boxes (a mesh's axis-aligned faces) behind a line's origin: the unsigned widening
+    /// would shrink a negative entry and grow a negative exit, culling every one of them.
+    #[test]
+    fn lines_find_flat_boxes_behind_the_origin() {
+        for i in 1..=40 {
+            // One face per tree, so that the flat box is a lane's own box.
+            let x = -(i as f64) * 0.37;
+            let face = Aabb::new(DVec3::new(x, -1.0, -1.0), DVec3::new(x, 1.0, 1.0));
+            let bvh = Bvh::build(&[face]);
+            let ray = Ray::new(
+                DVec3::new(0.0, 0.1, 0.2),
+                DVec3::new(1.0, 0.001 * i as f64, -0.002),
+            );
+            let inv = ray.dir.recip();
+            let t_min = -100.0;
+            let exact = face.hit(&ray, inv, t_min, f64::INFINITY);
+            assert!(exact.is_some());
+            let found = bvh.closest_on_line(&ray, t_min, f64::INFINITY, &mut 0, |_, t_max| {
+                face.hit(&ray, inv, t_min, t_max).map(|t| (t, t))
+            });
+            assert_eq!(found.map(|f| f.1), exact, "face at x = {x}");
+            let on_line = bvh.any_on_line(&ray, &mut 0, |_| true);
+            assert_eq!(on_line, Some(0), "face at x = {x}");
+        }
+    }
+
     fn brute_force_check(boxes: &[Aabb], rays: usize) {
         let bvh = Bvh::build(boxes);
         let mut rng = Rng::new(&[12]);
@@ -1291,6 +1343,31 @@ mod tests {
                     .is_some()
             });
             assert_eq!(any.is_some(), brute.is_some());
+            // The whole line (as the slice figures and CSG ask): every box on it, either side
+            // of the origin, within a window that starts behind it.
+            let t_min = -100.0 * rng.next_f64();
+            let behind = boxes
+                .iter()
+                .filter_map(|b| b.hit(&ray, inv, t_min, f64::INFINITY))
+                .min_by(f64::total_cmp);
+            let found = bvh.closest_on_line(&ray, t_min, f64::INFINITY, &mut 0, |k, t_max| {
+                boxes[bvh.prims[k] as usize]
+                    .hit(&ray, inv, t_min, t_max)
+                    .map(|t| (t, t))
+            });
+            assert_eq!(found.map(|f| f.1), behind, "t_min = {t_min}");
+            let mut on_line = 0;
+            bvh.any_on_line(&ray, &mut 0, |k| {
+                let hit =
+                    boxes[bvh.prims[k] as usize].hit(&ray, inv, f64::NEG_INFINITY, f64::INFINITY);
+                on_line += hit.is_some() as usize;
+                false
+            });
+            let crossed = boxes
+                .iter()
+                .filter(|b| b.hit(&ray, inv, f64::NEG_INFINITY, f64::INFINITY).is_some())
+                .count();
+            assert_eq!(on_line, crossed);
         }
     }
 }

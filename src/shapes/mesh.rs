@@ -121,22 +121,41 @@ impl Mesh {
         t_max: f64,
         obs: &mut O,
     ) -> Option<LocalHit> {
+        if t_min < 0.0 {
+            return self.intersect_line(ray, t_min, t_max, obs);
+        }
+        self.intersect_in::<false, O>(ray, t_min, t_max, obs)
+    }
+
+    /// [`Mesh::intersect`] along a ray (`LINE` false) or a line.
+    #[inline(always)]
+    fn intersect_in<const LINE: bool, O: Observer>(
+        &self,
+        ray: &Ray,
+        t_min: f64,
+        t_max: f64,
+        obs: &mut O,
+    ) -> Option<LocalHit> {
         let mut tested = 0usize;
         let mut visited = 0u32;
         // Equal t (a ray through an edge two faces share): the lower slot wins, whatever the
         // order they were tested in, so a bundle of rays ([`Mesh::intersect_bundle`]) that
         // walks the tree in another order picks the same face.
         let mut best_k = usize::MAX;
-        let found = self
-            .bvh
-            .closest(ray, t_min, t_max, &mut visited, |k, t_max| {
-                tested += 1;
-                let b = cramer_hit_prepared(&self.packed[k].prepared(), ray, t_min, t_max)?;
-                (b.t < t_max || k < best_k).then(|| {
-                    best_k = k;
-                    (b.t, b)
-                })
-            });
+        let test = |k: usize, t_max: f64| {
+            tested += 1;
+            let b = cramer_hit_prepared(&self.packed[k].prepared(), ray, t_min, t_max)?;
+            (b.t < t_max || k < best_k).then(|| {
+                best_k = k;
+                (b.t, b)
+            })
+        };
+        let found = if LINE {
+            self.bvh
+                .closest_on_line(ray, t_min, t_max, &mut visited, test)
+        } else {
+            self.bvh.closest(ray, t_min, t_max, &mut visited, test)
+        };
         obs.mesh(
             tested,
             found.as_ref().map(|(k, _)| self.bvh.prims[*k] as usize),
@@ -149,6 +168,20 @@ impl Mesh {
             self.triangle(index).intersect(ray, t_min, t_max, obs);
         }
         Some(self.local_hit(ray, &b, k))
+    }
+
+    /// [`Mesh::intersect`] from a t_min below zero: the closest face hit along the line
+    /// (the slice figures peel crossings off this way), through [`Bvh::closest_on_line`].
+    #[cold]
+    #[inline(never)]
+    fn intersect_line<O: Observer>(
+        &self,
+        ray: &Ray,
+        t_min: f64,
+        t_max: f64,
+        obs: &mut O,
+    ) -> Option<LocalHit> {
+        self.intersect_in::<true, O>(ray, t_min, t_max, obs)
     }
 
     /// The hit on the face in BVH slot `k`: what [`Triangle::local_hit`] gives for that face,
