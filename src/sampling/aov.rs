@@ -373,13 +373,13 @@ pub fn trace_aov_samples(scene: &Scene, settings: &RenderSettings) -> AovSamples
                         .enumerate()
                         .map(|(k, &film)| {
                             rec.reset();
-                            let camera = cameras
+                            let mut camera = cameras
                                 .as_mut()
                                 .and_then(|c| c[x as usize][k].take())
                                 .unwrap_or_else(|| {
                                     camera_ray(scene, settings, x, y, k as u32, film)
                                 });
-                            trace_camera(scene, settings, camera, &mut rec);
+                            trace_camera(scene, settings, &mut camera, &mut rec);
                             (film, rec.take())
                         })
                         .collect()

@@ -39,12 +39,15 @@ pub struct TileCameras {
 }
 
 impl TileCameras {
-    /// Takes the camera ray of sample `k` of the tile's pixel `local` (`None` once taken).
-    pub fn take(&mut self, local: usize, k: usize) -> Option<CameraRay> {
+    /// The camera ray of sample `k` of the tile's pixel `local`, where it lies (tracing
+    /// borrows it: [`crate::trace::trace_camera`]).
+    pub fn get(&mut self, local: usize, k: usize) -> Option<&mut CameraRay> {
         let i = self.starts[local] as usize + k;
-        (i < self.starts[local + 1] as usize)
-            .then(|| self.rays[i].take())
-            .flatten()
+        if i < self.starts[local + 1] as usize {
+            self.rays[i].as_mut()
+        } else {
+            None
+        }
     }
 }
 

@@ -291,10 +291,11 @@ fn render_with<R: Tally>(
                 }
                 let mut rec = R::default();
                 sample_pixel_into(settings, w, h, x, y, &mut samples, |k, film| {
-                    let camera = cameras
-                        .as_mut()
-                        .and_then(|c| c.take(local, k as usize))
-                        .unwrap_or_else(|| camera_ray(scene, settings, x, y, k, film));
+                    let mut own = None;
+                    let camera = match cameras.as_mut().and_then(|c| c.get(local, k as usize)) {
+                        Some(bundled) => bundled,
+                        None => own.insert(camera_ray(scene, settings, x, y, k, film)),
+                    };
                     debug_assert_eq!(camera.generation.film, film);
                     let r = trace_camera(scene, settings, camera, &mut rec);
                     if r.cut {
