@@ -49,13 +49,19 @@ pub fn tmp(name: &str) -> PathBuf {
     d.join(name)
 }
 
-/// Writes a file under a fresh temporary folder and returns its path.
+/// Writes a file under a fresh temporary folder and returns its path. Written under a name
+/// of its own and renamed into place, so that two tests writing the same file in parallel
+/// (the same scene, say) never let either read it half-written or truncated.
 pub fn write_tmp(name: &str, text: &str) -> PathBuf {
+    static WRITES: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
     let p = tmp(name);
     if let Some(d) = p.parent() {
         std::fs::create_dir_all(d).unwrap();
     }
-    std::fs::write(&p, text).unwrap();
+    let n = WRITES.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let part = p.with_file_name(format!(".{n}.part"));
+    std::fs::write(&part, text).unwrap();
+    std::fs::rename(&part, &p).unwrap();
     p
 }
 
