@@ -9,7 +9,7 @@
 //! What is shared: fetching and decoding each node, the stack, ordering the children, and
 //! (for meshes) preparing a face's corner and edges once for all rays that test it.
 
-use super::bvh::{down, up, Bvh, RayBox, STACK, WIDTH};
+use super::bvh::{down, up, Bvh, Node, RayBox, STACK, WIDTH};
 use crate::math::Ray;
 use arrayvec::ArrayVec;
 
@@ -74,34 +74,14 @@ impl Bvh {
         if self.nodes.is_empty() || active == 0 {
             return;
         }
-        let n = rays.len();
-        debug_assert!(n <= BUNDLE && n > 0);
-        let boxes: [RayBox; BUNDLE] = std::array::from_fn(|i| RayBox::new(&rays[i.min(n - 1)]));
-        debug_assert!(t_min >= 0.0, "bundles are rays, not lines");
-        let t_min32 = down(t_min);
-        let mut t_max32: [f32; BUNDLE] = std::array::from_fn(|i| up(t_max[i]));
+        let (boxes, t_min32, mut t_max32) = prepare(rays, t_min, t_max);
         let mut stack = ArrayVec::<Pending, STACK>::new();
         let mut node = 0usize;
         let mut mask = active;
         loop {
             work.opened += 1;
             let nd = &self.nodes[node];
-            let mut lane_rays = [0u32; WIDTH];
-            // Per child, the earliest entry of the rays that enter it.
-            let mut first = [f32::INFINITY; WIDTH];
-            let mut m = mask;
-            while m != 0 {
-                let i = m.trailing_zeros() as usize;
-                m &= m - 1;
-                work.ray_nodes[i] += 1;
-                let (hit, t) = nd.enter::<false>(&boxes[i], t_min32, t_max32[i]);
-                for lane in 0..WIDTH {
-                    let entered = (hit >> lane) & 1;
-                    lane_rays[lane] |= entered << i;
-                    let t = if entered != 0 { t[lane] } else { f32::INFINITY };
-                    first[lane] = first[lane].min(t);
-                }
-            }
+            let (lane_rays, first) = enter_all(nd, &boxes, mask, t_min32, &t_max32, work);
             // Children entered by some ray, farthest (by the nearest ray's entry) pushed first.
             let mut order: ArrayVec<(f32, usize), WIDTH> = ArrayVec::new();
             for lane in 0..WIDTH {
@@ -177,11 +157,7 @@ impl Bvh {
         if self.nodes.is_empty() || active == 0 {
             return 0;
         }
-        let n = rays.len();
-        let boxes: [RayBox; BUNDLE] = std::array::from_fn(|i| RayBox::new(&rays[i.min(n - 1)]));
-        debug_assert!(t_min >= 0.0, "bundles are rays, not lines");
-        let t_min32 = down(t_min);
-        let t_max32: [f32; BUNDLE] = std::array::from_fn(|i| up(t_max[i]));
+        let (boxes, t_min32, t_max32) = prepare(rays, t_min, t_max);
         let mut blocked = 0u32;
         let mut stack = ArrayVec::<(u32, u32), STACK>::new();
         stack.push((0, active));
@@ -192,17 +168,7 @@ impl Bvh {
             }
             work.opened += 1;
             let nd = &self.nodes[node as usize];
-            let mut lane_rays = [0u32; WIDTH];
-            let mut m = mask;
-            while m != 0 {
-                let i = m.trailing_zeros() as usize;
-                m &= m - 1;
-                work.ray_nodes[i] += 1;
-                let (hit, _) = nd.enter::<false>(&boxes[i], t_min32, t_max32[i]);
-                for (lane, r) in lane_rays.iter_mut().enumerate() {
-                    *r |= ((hit >> lane) & 1) << i;
-                }
-            }
+            let (lane_rays, _) = enter_all(nd, &boxes, mask, t_min32, &t_max32, work);
             for (lane, &entered) in lane_rays.iter().enumerate() {
                 let r = entered & !blocked;
                 if r == 0 {
@@ -230,4 +196,48 @@ impl Bvh {
         blocked
     }
     // ANCHOR_END: any_bundle
+}
+
+/// A bundle's rays as the slab test wants them (the last ray repeated into unused slots),
+/// and its t range in f32, rounded outwards.
+#[inline(always)]
+fn prepare(
+    rays: &[Ray],
+    t_min: f64,
+    t_max: &[f64; BUNDLE],
+) -> ([RayBox; BUNDLE], f32, [f32; BUNDLE]) {
+    let n = rays.len();
+    debug_assert!(n <= BUNDLE && n > 0);
+    debug_assert!(t_min >= 0.0, "bundles are rays, not lines");
+    let boxes = std::array::from_fn(|i| RayBox::new(&rays[i.min(n - 1)]));
+    (boxes, down(t_min), std::array::from_fn(|i| up(t_max[i])))
+}
+
+/// Node `nd` opened for the rays in `mask`: each ray's slab test of the four children. Per
+/// child, the mask of the rays that enter it and the earliest entry among them (∞ if none).
+#[inline(always)]
+fn enter_all(
+    nd: &Node,
+    boxes: &[RayBox; BUNDLE],
+    mask: u32,
+    t_min32: f32,
+    t_max32: &[f32; BUNDLE],
+    work: &mut BundleWork,
+) -> ([u32; WIDTH], [f32; WIDTH]) {
+    let mut lane_rays = [0u32; WIDTH];
+    let mut first = [f32::INFINITY; WIDTH];
+    let mut m = mask;
+    while m != 0 {
+        let i = m.trailing_zeros() as usize;
+        m &= m - 1;
+        work.ray_nodes[i] += 1;
+        let (hit, t) = nd.enter::<false>(&boxes[i], t_min32, t_max32[i]);
+        for lane in 0..WIDTH {
+            let entered = (hit >> lane) & 1;
+            lane_rays[lane] |= entered << i;
+            let t = if entered != 0 { t[lane] } else { f32::INFINITY };
+            first[lane] = first[lane].min(t);
+        }
+    }
+    (lane_rays, first)
 }
