@@ -23,13 +23,15 @@ pub const MAX_LEAF: usize = 8;
 /// Deeper nodes become leaves, so a traversal stack of [`STACK`] entries never overflows.
 const MAX_DEPTH: usize = 60;
 /// Children per node of the tree rays walk. (Eight was tried: slower on the 1M-triangle
-/// terrain, the nodes being four cache lines.)
+/// terrain, the nodes being four cache lines; and again built for AVX2, where eight lanes
+/// are one instruction: 1046 instructions a camera ray on bunny_56k against 955, and slower.)
 pub const WIDTH: usize = 4;
 /// Opening a node pushes at most WIDTH children and pops one, and the wide tree is no deeper
 /// than the binary one.
 pub(super) const STACK: usize = (WIDTH - 1) * MAX_DEPTH + WIDTH;
 /// Cost of visiting a node relative to testing one primitive, for the SAH's leaf-or-split
-/// decision.
+/// decision. (0.5 saved 3 % of bunny_56k's camera-ray instructions, 1 % on the other meshes,
+/// for more memory and reshaped teaching trees: book chapter 13.)
 const TRAVERSAL_COST: f32 = 1.0;
 /// Subtrees with more primitives than this are built in parallel.
 const PARALLEL_MIN: usize = 8192;
