@@ -182,6 +182,9 @@ pub fn diff(
     })
 }
 
+/// An object of a region (`None`: the background), its pixels, and its surfaces' pixels.
+type ObjectTally = (Option<usize>, usize, Vec<(&'static str, usize)>);
+
 fn signed_difference(expected: &RgbImage, yours: &RgbImage, (x, y): (u32, u32)) -> [i32; 3] {
     let (e, m) = (expected.get_pixel(x, y), yours.get_pixel(x, y));
     [0, 1, 2].map(|c| m[c] as i32 - e[c] as i32)
@@ -217,7 +220,7 @@ fn region(
     let pixel = g.pixels[typical];
 
     // Objects and their surfaces, most pixels first.
-    let mut objects: Vec<(Option<usize>, usize, Vec<(&'static str, usize)>)> = Vec::new();
+    let mut objects: Vec<ObjectTally> = Vec::new();
     for &(x, y) in &g.pixels {
         let hit = under[(y * w + x) as usize];
         let o = hit.map(|h| h.0);

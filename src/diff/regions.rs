@@ -98,6 +98,9 @@ fn components(mask: &[bool], w: usize, h: usize) -> (Vec<u32>, u32) {
     (label, next)
 }
 
+/// One object's pixels within a component (`None`: the background).
+type ObjectPixels = (Option<usize>, Vec<(u32, u32)>);
+
 /// Groups the pixels of `mask` (a `w`×`h` row-major mask): connected after a dilation by
 /// [`MERGE_REACH`], then split by `object_of` each pixel. A split-off group of fewer than
 /// `min_pixels` pixels joins the largest group of its component (an edge's stray pixels are
@@ -113,7 +116,7 @@ pub fn group(
     let grown = dilate(mask, wu, hu, MERGE_REACH);
     let (label, n) = components(&grown, wu, hu);
     // Per component, its object groups in order of first appearance.
-    let mut parts: Vec<Vec<(Option<usize>, Vec<(u32, u32)>)>> = vec![Vec::new(); n as usize];
+    let mut parts: Vec<Vec<ObjectPixels>> = vec![Vec::new(); n as usize];
     for (i, _) in mask.iter().enumerate().filter(|(_, m)| **m) {
         let (x, y) = ((i % wu) as u32, (i / wu) as u32);
         let o = object_of(x, y);
@@ -132,9 +135,9 @@ pub fn group(
             .max_by_key(|&k| (comp[k].1.len(), usize::MAX - k))
             .unwrap();
         let mut strays = Vec::new();
-        for k in 0..comp.len() {
-            if k != big && comp[k].1.len() < min_pixels {
-                strays.append(&mut comp[k].1);
+        for (k, c) in comp.iter_mut().enumerate() {
+            if k != big && c.1.len() < min_pixels {
+                strays.append(&mut c.1);
             }
         }
         comp[big].1.append(&mut strays);

@@ -256,6 +256,8 @@ pub fn fit(
                 return None; // collinear with terms already chosen
             }
             a.swap(col, piv);
+            // Row operations by index, as the elimination is written on paper.
+            #[allow(clippy::needless_range_loop)]
             for r in 0..n {
                 if r != col {
                     let f = a[r][col] / a[col][col];

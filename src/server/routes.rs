@@ -4,7 +4,7 @@
 //! that does not load, 409 for a render a newer one superseded, 500 if anything panicked.
 
 use super::params::{self, Params};
-use super::state::State;
+use super::state::{Frames, State};
 use crate::error::Error;
 use crate::sampling::aov::{render_aov, Aov};
 use crate::scene::Scene;
@@ -99,6 +99,8 @@ where
 }
 
 /// Parses the query, answering 400 on a bad one.
+// The error is the response itself, handed straight back to axum: boxing it buys nothing.
+#[allow(clippy::result_large_err)]
 pub(super) fn query(raw: &Option<String>, own: &[&str]) -> std::result::Result<Params, Response> {
     params::parse(raw.as_deref(), own)
         .map_err(|e| super::security::refuse(StatusCode::BAD_REQUEST, &e.to_string()))
@@ -299,7 +301,7 @@ async fn render(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Res
 }
 
 /// The steps frames of the scene with these options (rendered once, then kept).
-fn frames(st: &State, q: &Params) -> std::result::Result<Arc<Vec<(String, Vec<u8>)>>, Fail> {
+fn frames(st: &State, q: &Params) -> std::result::Result<Frames, Fail> {
     let s = st.scene(&q.words)?;
     if let Some((scene, f)) = super::state::lock(&st.steps).as_ref() {
         if Arc::ptr_eq(scene, &s) {

@@ -41,6 +41,12 @@ pub const MAX_SAMPLES: u64 = 1 << 26;
 
 type Stamp = Option<(SystemTime, u64)>;
 
+/// A loaded scene, by the option words it was loaded with and its file's stamp.
+type Cached = (Vec<String>, Stamp, Arc<Scene>);
+
+/// The frames of `steps` (caption, PNG bytes), in order.
+pub type Frames = Arc<Vec<(String, Vec<u8>)>>;
+
 /// What the watcher last saw.
 #[derive(Debug, Clone, Serialize)]
 pub struct Status {
@@ -58,14 +64,14 @@ pub struct State {
     pub options: Vec<OptionInfo>,
     /// `Host` header values this server answers to.
     pub allowed_hosts: Vec<String>,
-    cache: Mutex<Vec<(Vec<String>, Stamp, Arc<Scene>)>>,
+    cache: Mutex<Vec<Cached>>,
     streams: Mutex<HashMap<String, Arc<AtomicBool>>>,
     pub status: Mutex<Status>,
     pub events: tokio::sync::broadcast::Sender<String>,
     /// Heavy work (renders, explanations) at most this many at a time; the rest wait.
     pub jobs: tokio::sync::Semaphore,
     /// The steps frames (caption, PNG) of the last scene asked for.
-    pub steps: Mutex<Option<(Arc<Scene>, Arc<Vec<(String, Vec<u8>)>>)>>,
+    pub steps: Mutex<Option<(Arc<Scene>, Frames)>>,
 }
 
 impl State {
