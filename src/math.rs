@@ -59,7 +59,9 @@ impl Transform {
     }
 
     /// The world ray in object space. The direction is not renormalised, so t is shared.
-    #[inline]
+    /// (`inline(always)`: every ray of every object test passes here; left to the compiler,
+    /// whether it was inlined changed with how the crate fell into codegen units.)
+    #[inline(always)]
     pub fn ray_to_object(&self, ray: &Ray) -> Ray {
         if self.identity {
             return *ray;

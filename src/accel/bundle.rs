@@ -209,8 +209,17 @@ fn prepare(
     let n = rays.len();
     debug_assert!(n <= BUNDLE && n > 0);
     debug_assert!(t_min >= 0.0, "bundles are rays, not lines");
-    let boxes = std::array::from_fn(|i| RayBox::new(&rays[i.min(n - 1)]));
-    (boxes, down(t_min), std::array::from_fn(|i| up(t_max[i])))
+    // Loops rather than `array::from_fn`: whether the compiler inlined from_fn's closure
+    // changed with how the crate fell into codegen units (80 instructions a pixel).
+    let mut boxes = [RayBox::new(&rays[n - 1]); BUNDLE];
+    for (b, r) in boxes.iter_mut().zip(&rays[..n - 1]) {
+        *b = RayBox::new(r);
+    }
+    let mut t_max32 = [0.0; BUNDLE];
+    for (t32, &t) in t_max32.iter_mut().zip(t_max) {
+        *t32 = up(t);
+    }
+    (boxes, down(t_min), t_max32)
 }
 
 /// Node `nd` opened for the rays in `mask`: each ray's slab test of the four children. Per

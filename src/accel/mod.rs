@@ -457,16 +457,21 @@ fn test_object_bundle(
 /// A bundle's rays in `object`'s space: those in `mask` taken there, the others left as
 /// they are (placeholders in the lanes the mask leaves out, never read), so a bundle that
 /// reaches an object with few of its rays transforms only those.
+/// (A plain loop over the mask's bits, inlined: built with `array::from_fn` and left to the
+/// compiler, whether the 16 rays were copied out depended on how the crate fell into
+/// codegen units.)
+#[inline(always)]
 fn to_object(object: &Object, rays: &[Ray], mask: u32) -> [Ray; BUNDLE] {
     let n = rays.len();
-    std::array::from_fn(|r| {
-        let ray = &rays[r.min(n - 1)];
-        if mask >> r & 1 == 1 {
-            object.transform.ray_to_object(ray)
-        } else {
-            *ray
-        }
-    })
+    let mut out = [rays[n - 1]; BUNDLE];
+    out[..n].copy_from_slice(rays);
+    let mut m = mask;
+    while m != 0 {
+        let r = m.trailing_zeros() as usize;
+        m &= m - 1;
+        out[r] = object.transform.ray_to_object(&rays[r.min(n - 1)]);
+    }
+    out
 }
 
 /// The mask of a bundle's rays (bit i: ray i). A bundle holds at most [`BUNDLE`] rays: its

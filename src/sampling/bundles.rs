@@ -131,10 +131,13 @@ fn bundle_into(
     if samples.is_empty() {
         return;
     }
-    let cams: ArrayVec<CameraRay, BUNDLE> = samples
-        .iter()
-        .map(|&(x, y, k, film)| camera_ray(scene, settings, x, y, k, film))
-        .collect();
+    // Pushed one by one rather than collected: whether the compiler inlined `collect` (and
+    // so built the 16 rays in place instead of copying them out) changed with how the crate
+    // fell into codegen units, 130 instructions a pixel.
+    let mut cams: ArrayVec<CameraRay, BUNDLE> = ArrayVec::new();
+    for &(x, y, k, film) in samples {
+        cams.push(camera_ray(scene, settings, x, y, k, film));
+    }
     let rays: ArrayVec<Ray, BUNDLE> = cams.iter().map(|c| c.ray).collect();
     let mut cost = BundleCost::default();
     let hits = scene

@@ -176,7 +176,9 @@ pub(super) fn bracket(x: f64) -> (f32, f32) {
     (f - m, f + m)
 }
 
-/// The largest f32 not above x.
+/// The largest f32 not above x. (`inline`: the walks call it per ray and per hit, from
+/// other modules, which may land in other codegen units.)
+#[inline]
 pub(in crate::accel) fn down(x: f64) -> f32 {
     let f = x as f32;
     if f as f64 > x {
@@ -187,6 +189,7 @@ pub(in crate::accel) fn down(x: f64) -> f32 {
 }
 
 /// The smallest f32 not below x.
+#[inline]
 pub(in crate::accel) fn up(x: f64) -> f32 {
     let f = x as f32;
     if (f as f64) < x {
