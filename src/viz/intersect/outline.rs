@@ -50,6 +50,32 @@ fn later(
     pending.push((cands.to_vec(), text.to_string(), size, color));
 }
 
+/// A dotted guide across the whole plot: an infinite surface's section or a cap plane,
+/// where tossed roots land.
+enum Guide {
+    /// The vertical line u = x.
+    Upright(f64),
+    /// The horizontal line v = y.
+    Across(f64),
+}
+
+fn guide(c: &mut Canvas, labels: &mut Labels, v: &View, g: Guide) {
+    let b = v.bounds();
+    let (a, z) = match g {
+        Guide::Upright(x) => ((x, b.1), (x, b.3)),
+        Guide::Across(y) => ((b.0, y), (b.2, y)),
+    };
+    line(
+        c,
+        labels,
+        v.px_uv(a),
+        v.px_uv(z),
+        style::rgb(175, 185, 205),
+        1.2,
+        true,
+    );
+}
+
 /// A polygon's outline as blocked segments.
 fn block_polygon(l: &mut Labels, pts: &[(f32, f32)]) {
     for i in 0..pts.len() {
@@ -148,36 +174,18 @@ fn cylinder(
     cy: &Cylinder,
 ) {
     let (fill, stroke) = (style::shape_fill(), style::shape_stroke());
-    let faint = style::rgb(175, 185, 205);
-    let b = v.bounds();
     let m = side_offset(r);
     let rr = cy.radius;
     // The infinite cylinder's section (where body roots land) and the cap planes.
     let half = (rr * rr - m * m).max(0.0).sqrt();
     for x in [-half, half] {
         if rr * rr - m * m > 0.0 {
-            line(
-                c,
-                labels,
-                v.px_uv((x, b.1)),
-                v.px_uv((x, b.3)),
-                faint,
-                1.2,
-                true,
-            );
+            guide(c, labels, v, Guide::Upright(x));
         }
     }
     for y in [cy.y_min, cy.y_max] {
         if cy.capped {
-            line(
-                c,
-                labels,
-                v.px_uv((b.0, y)),
-                v.px_uv((b.2, y)),
-                faint,
-                1.2,
-                true,
-            );
+            guide(c, labels, v, Guide::Across(y));
         }
     }
     // Silhouette of the finite cylinder (dashed) and the section the ray's plane cuts.
@@ -252,15 +260,7 @@ fn cone(
     }
     for y in [k.y_min, k.y_max] {
         if k.capped && y != 0.0 {
-            line(
-                c,
-                labels,
-                v.px_uv((b.0, y)),
-                v.px_uv((b.2, y)),
-                faint,
-                1.2,
-                true,
-            );
+            guide(c, labels, v, Guide::Across(y));
             let q = s * s * y * y - m * m;
             if q > 0.0 {
                 let h = q.sqrt();
@@ -299,7 +299,6 @@ fn slabs(
     bx: &Cuboid,
 ) {
     let (fill, stroke) = (style::shape_fill(), style::shape_stroke());
-    let faint = style::rgb(175, 185, 205);
     let b = v.bounds();
     let (a1, a2, _) = box_axes(r);
     let names = ["x", "y", "z"];
@@ -328,26 +327,10 @@ fn slabs(
         Some(style::rgba(148, 103, 189, 26)),
     );
     for x in [bx.min[a1], bx.max[a1]] {
-        line(
-            c,
-            labels,
-            v.px_uv((x, b.1)),
-            v.px_uv((x, b.3)),
-            faint,
-            1.2,
-            true,
-        );
+        guide(c, labels, v, Guide::Upright(x));
     }
     for y in [bx.min[a2], bx.max[a2]] {
-        line(
-            c,
-            labels,
-            v.px_uv((b.0, y)),
-            v.px_uv((b.2, y)),
-            faint,
-            1.2,
-            true,
-        );
+        guide(c, labels, v, Guide::Across(y));
     }
     let rect = [
         v.px_uv((bx.min[a1], bx.min[a2])),
