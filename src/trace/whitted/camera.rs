@@ -1,0 +1,112 @@
+//! A sample's camera ray: made from (seed, pixel, sample index), then traced.
+
+use super::Tracer;
+use crate::camera::RayGeneration;
+use crate::math::{Ray, Rng};
+use crate::scene::{RenderSettings, Scene};
+use crate::trace::{RayKind, Recorder};
+use glam::{DVec2, DVec3};
+
+/// One traced sample: where it was on the film and what colour it brought back.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SampleResult {
+    pub film: DVec2,
+    pub color: DVec3,
+    pub generation: RayGeneration,
+    /// Rays the sample traced, of every kind.
+    pub rays: u64,
+    /// The ray budget (`settings.max_rays`) cut the tree: some node ends with
+    /// [`End::RayBudget`] (or the render was cancelled).
+    pub cut: bool,
+}
+
+/// Traces sample `index` at film position `film` of pixel (`px`, `py`). The sample's random
+/// numbers (lens, area lights) come from (seed, pixel, sample index) alone.
+pub fn trace_sample<R: Recorder>(
+    scene: &Scene,
+    settings: &RenderSettings,
+    px: u32,
+    py: u32,
+    index: u32,
+    film: DVec2,
+    rec: &mut R,
+) -> SampleResult {
+    let mut camera = camera_ray(scene, settings, px, py, index, film);
+    trace_camera(scene, settings, &mut camera, rec)
+}
+
+/// A sample's camera ray, made but not yet traced: the ray, how it was generated, the
+/// sample's random stream after the lens sample, and (when a bundle of camera rays already
+/// walked the scene, [`crate::sampling::bundles`]) its closest hit and what finding it cost.
+#[derive(Debug, Clone)]
+pub struct CameraRay {
+    pub ray: Ray,
+    pub generation: RayGeneration,
+    pub rng: Rng,
+    pub found: Option<Found>,
+}
+
+/// A camera ray's closest hit found in a bundle: exactly what `Accel::closest` returns for
+/// it, with its share of the work (intersection tests, nodes it was tested at).
+#[derive(Debug, Clone, Copy)]
+pub struct Found {
+    pub hit: Option<(usize, crate::shapes::LocalHit)>,
+    pub tests: u32,
+    pub nodes: u32,
+}
+
+/// The camera ray of sample `index` at `film` of pixel (`px`, `py`); its random numbers (lens,
+/// then area lights) come from (seed, pixel, sample index) alone.
+pub fn camera_ray(
+    scene: &Scene,
+    settings: &RenderSettings,
+    px: u32,
+    py: u32,
+    index: u32,
+    film: DVec2,
+) -> CameraRay {
+    let mut rng = Rng::new(&[settings.seed, px as u64, py as u64, index as u64]);
+    let lens = scene.camera.lens_sample(settings.depth_of_field, &mut rng);
+    let (ray, generation) = scene.camera.generate_as(film, lens, settings.mistakes);
+    CameraRay {
+        ray,
+        generation,
+        rng,
+        found: None,
+    }
+}
+
+/// Traces a camera ray ([`camera_ray`]); with its hit already found, the recorder hears the
+/// bundle's share of the work ([`Recorder::bundled`]) instead of the walk.
+/// The camera ray is borrowed, not moved: it is a few hundred bytes, and a tile's bundled
+/// rays are traced where they lie.
+pub fn trace_camera<R: Recorder>(
+    scene: &Scene,
+    settings: &RenderSettings,
+    camera: &mut CameraRay,
+    rec: &mut R,
+) -> SampleResult {
+    let CameraRay {
+        ray,
+        generation,
+        rng,
+        found,
+    } = camera;
+    let tracer = Tracer::new(scene, settings);
+    let color = tracer.trace_found(
+        ray,
+        RayKind::Camera,
+        0,
+        DVec3::ONE,
+        rng,
+        rec,
+        found.as_ref(),
+    );
+    SampleResult {
+        film: generation.film,
+        color,
+        generation: *generation,
+        rays: tracer.budget.rays(),
+        cut: tracer.budget.cut(),
+    }
+}
