@@ -3,8 +3,8 @@
 //! ([`crate::accel::Accel::closest_bundle`]). Only the closest hits are found this way; the
 //! tracer then shades each sample as usual, from its hit ([`crate::trace::trace_camera`]).
 
-use super::film::Tile;
 use super::sampler::planned_films_into;
+use super::tiles::Tile;
 use crate::accel::{BundleCost, BUNDLE};
 use crate::math::Ray;
 use crate::scene::{RenderSettings, Scene};

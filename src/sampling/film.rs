@@ -1,89 +1,18 @@
+//! The render: tiles traced in parallel, sample by sample through the one tracer, then
+//! reconstructed into the image; and what the render holds in memory.
+
 use super::bundles::{tile_camera_rays, BundleTally};
+use super::image::Image;
+use super::reconstruct::reconstruct_color;
 use super::sampler::sample_pixel_into;
+use super::tiles::{row_major_order, tiles};
 use super::{Filter, PixelSample};
 use crate::accel::Traversal;
-use crate::mistakes::{Mistake, Mistakes};
-use crate::scene::{Encoding, RenderSettings, Scene};
+use crate::scene::{RenderSettings, Scene};
 use crate::trace::{camera_ray, trace_camera, Counter, NoRecorder, RayCounts, Recorder};
-use glam::{DVec2, DVec3};
+use glam::DVec3;
 use rayon::prelude::*;
 use std::time::Instant;
-
-/// A linear-colour image, row-major from the top-left.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Image {
-    pub width: u32,
-    pub height: u32,
-    pub pixels: Vec<DVec3>,
-}
-
-impl Image {
-    pub fn get(&self, x: u32, y: u32) -> DVec3 {
-        self.pixels[(y * self.width + x) as usize]
-    }
-    /// The bytes of this image under an encoding (RGB, 3 bytes a pixel).
-    pub fn to_rgb8(&self, encoding: Encoding) -> image::RgbImage {
-        let mut out = image::RgbImage::new(self.width, self.height);
-        for (p, c) in out.pixels_mut().zip(&self.pixels) {
-            *p = image::Rgb(encode(*c, encoding));
-        }
-        out
-    }
-
-    /// The bytes of this image as the settings encode them: their encoding, and the
-    /// catalogue's byte mistakes (`srgb-gamma`, `round-bytes`) when they are on.
-    pub fn to_rgb8_for(&self, settings: &RenderSettings) -> image::RgbImage {
-        if settings.mistakes.is_empty() {
-            return self.to_rgb8(settings.encoding);
-        }
-        let mut out = image::RgbImage::new(self.width, self.height);
-        for (p, c) in out.pixels_mut().zip(&self.pixels) {
-            *p = image::Rgb(encode_as(*c, settings.encoding, settings.mistakes));
-        }
-        out
-    }
-}
-
-/// One pixel's bytes. `Clamp`: floor(255·min(max(c, 0), 1)), no gamma, as the course's
-/// reference images are made. `Srgb`: the sRGB transfer curve, rounded.
-pub fn encode(c: DVec3, encoding: Encoding) -> [u8; 3] {
-    encode_as(c, encoding, Mistakes::NONE)
-}
-
-// ANCHOR: encode
-/// [`encode`] under the catalogue's byte mistakes: `srgb-gamma` applies the sRGB curve to the
-/// course's linear encoding, `round-bytes` rounds instead of truncating.
-pub fn encode_as(c: DVec3, encoding: Encoding, mistakes: Mistakes) -> [u8; 3] {
-    let f = |x: f64| -> u8 {
-        let x = if x.is_nan() { 0.0 } else { x.clamp(0.0, 1.0) };
-        let srgb = |x: f64| {
-            if x >= 1.0 {
-                1.0 // not 1.055 − 0.055, a hair below 1
-            } else if x <= 0.003_130_8 {
-                12.92 * x
-            } else {
-                1.055 * x.powf(1.0 / 2.4) - 0.055
-            }
-        };
-        match encoding {
-            Encoding::Clamp => {
-                let x = if mistakes.has(Mistake::SrgbGamma) {
-                    srgb(x)
-                } else {
-                    x
-                };
-                if mistakes.has(Mistake::RoundBytes) {
-                    (255.0 * x).round() as u8
-                } else {
-                    (255.0 * x).floor() as u8
-                }
-            }
-            Encoding::Srgb => (255.0 * srgb(x)).round() as u8,
-        }
-    };
-    [f(c.x), f(c.y), f(c.z)]
-}
-// ANCHOR_END: encode
 
 /// What the counting recorder saw over a whole render.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -118,66 +47,6 @@ pub struct RenderOutput {
     /// `settings.cancel` was cancelled (or Ctrl-C pressed) during the render: some pixels
     /// were skipped or cut short, so the image is not to be used.
     pub cancelled: bool,
-}
-
-/// Side of the square tiles a render hands out to threads. Neighbouring rays open the same
-/// BVH nodes and test the same faces, so a tile keeps them in the core's cache far better
-/// than a row 1280 pixels long does (about 5–10 % more camera rays per second on a
-/// million-triangle mesh).
-pub const TILE: u32 = 16;
-
-/// A block of pixels: columns `x`, rows `y` (ends excluded).
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Tile {
-    pub x: std::ops::Range<u32>,
-    pub y: std::ops::Range<u32>,
-}
-
-impl Tile {
-    /// Its pixels, row by row.
-    pub fn pixels(&self) -> impl Iterator<Item = (u32, u32)> + '_ {
-        self.y
-            .clone()
-            .flat_map(move |y| self.x.clone().map(move |x| (x, y)))
-    }
-
-    pub fn len(&self) -> usize {
-        self.x.len() * self.y.len()
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-}
-
-/// The image cut into [`TILE`]×[`TILE`] tiles (narrower at the right and bottom edges),
-/// listed row by row of tiles: tile `(y / TILE) · ⌈width / TILE⌉ + x / TILE` holds pixel
-/// (x, y).
-pub fn tiles(width: u32, height: u32) -> Vec<Tile> {
-    (0..height.div_ceil(TILE))
-        .flat_map(|ty| {
-            (0..width.div_ceil(TILE)).map(move |tx| Tile {
-                x: tx * TILE..((tx + 1) * TILE).min(width),
-                y: ty * TILE..((ty + 1) * TILE).min(height),
-            })
-        })
-        .collect()
-}
-
-/// Where each pixel's result sits among per-tile results (tile by tile, each in its tile's
-/// row-major order, as [`tiles`] lists them): for every pixel in row-major order, (tile,
-/// index within the tile).
-pub fn row_major_order(width: u32, height: u32) -> impl Iterator<Item = (usize, usize)> {
-    let across = width.div_ceil(TILE);
-    (0..height).flat_map(move |y| {
-        (0..width).map(move |x| {
-            let t = ((y / TILE) * across + x / TILE) as usize;
-            // Tiles are TILE wide except the last of a row of tiles.
-            let tile_width = TILE.min(width - (x / TILE) * TILE);
-            let local = (y % TILE) * tile_width + x % TILE;
-            (t, local as usize)
-        })
-    })
 }
 
 /// Renders the scene. With `count`, a [`Counter`] records rays, tests and nodes per pixel;
@@ -411,121 +280,6 @@ fn render_with<R: Tally>(
     })
 }
 
-// ANCHOR: reconstruct
-/// Pixel (x, y) as the filter-weighted mean of every sample within the filter's reach,
-/// neighbours' samples included: Σ w(s − centre)·a(s)·c(s) / Σ w·a, where a(s) is the share
-/// of the film the sample stands for (1, except for the adaptive sampler's cells).
-/// `samples_of(qx, qy)` gives the (film, colour, area) of the samples pixel q owns. Returns the
-/// colour and the normalised weight of each sample, pixel by pixel (for `explain`). Pixels are
-/// visited in a fixed order, so the sum is the same on any number of threads.
-pub fn reconstruct<I: IntoIterator<Item = (DVec2, DVec3, f64)>>(
-    filter: &Filter,
-    x: u32,
-    y: u32,
-    width: u32,
-    height: u32,
-    samples_of: impl Fn(u32, u32) -> I,
-) -> (DVec3, Vec<(u32, u32, usize, f64)>) {
-    let mut weights = Vec::new();
-    let every = Lines(1);
-    let (sum, total) = accumulate(
-        filter,
-        (x, y),
-        (width, height),
-        every,
-        samples_of,
-        |qx, qy, k, w| weights.push((qx, qy, k, w)),
-    );
-    if total.abs() < 1e-12 {
-        return (DVec3::ZERO, weights);
-    }
-    for w in &mut weights {
-        w.3 /= total;
-    }
-    (sum / total, weights)
-}
-
-/// The rows (or columns) of pixels that may own samples: under `--subsample K`, the
-/// multiples of K and the last one ([`super::traces_samples`]); `Lines(1)`, every one.
-#[derive(Clone, Copy)]
-struct Lines(u32);
-
-impl Lines {
-    /// Those of lo..=hi (within 0..n), in increasing order.
-    fn within(self, lo: i64, hi: i64, n: u32) -> impl Iterator<Item = u32> {
-        let k = self.0.max(1) as i64;
-        let (lo, hi) = (lo.max(0), hi.min(n as i64 - 1));
-        let first = (lo + k - 1) / k * k;
-        let last = n as i64 - 1;
-        // The last line traces too; it is listed after the multiples, which are all below it.
-        let tail = (last >= lo && last <= hi && last % k != 0).then_some(last as u32);
-        (first..=hi)
-            .step_by(k as usize)
-            .map(|q| q as u32)
-            .chain(tail)
-    }
-}
-
-/// Σ w·a·c and Σ w·a over the samples within the filter's reach of pixel (x, y), in the fixed
-/// order [`reconstruct`] documents, telling `weighed(qx, qy, k, w)` each nonzero weight.
-/// Only the pixels on `lines` (both ways) are asked for samples; the others must own none,
-/// so skipping them changes no sum.
-fn accumulate<I: IntoIterator<Item = (DVec2, DVec3, f64)>>(
-    filter: &Filter,
-    (x, y): (u32, u32),
-    (width, height): (u32, u32),
-    lines: Lines,
-    samples_of: impl Fn(u32, u32) -> I,
-    mut weighed: impl FnMut(u32, u32, usize, f64),
-) -> (DVec3, f64) {
-    let centre = DVec2::new(x as f64 + 0.5, y as f64 + 0.5);
-    let reach = filter.reach();
-    let (mut sum, mut total) = (DVec3::ZERO, 0.0);
-    let (x, y) = (x as i64, y as i64);
-    for qy in lines.within(y - reach, y + reach, height) {
-        for qx in lines.within(x - reach, x + reach, width) {
-            for (k, (film, color, area)) in samples_of(qx, qy).into_iter().enumerate() {
-                let d = film - centre;
-                let w = filter.weight(d.x, d.y) * area;
-                if w != 0.0 {
-                    sum += w * color;
-                    total += w;
-                    weighed(qx, qy, k, w);
-                }
-            }
-        }
-    }
-    (sum, total)
-}
-
-/// [`reconstruct`]'s colour alone (the same sums, so the same bits), keeping no weights: what
-/// the renderer runs for every pixel. Under `--subsample K` it asks only the pixels that
-/// trace (one in K×K) for samples, since the others own none: the stretched filter of a
-/// preview reaches K times as far each way, and visiting every pixel of it cost more than
-/// tracing the preview.
-fn reconstruct_color<I: IntoIterator<Item = (DVec2, DVec3, f64)>>(
-    filter: &Filter,
-    (x, y): (u32, u32),
-    (width, height): (u32, u32),
-    subsample: u32,
-    samples_of: impl Fn(u32, u32) -> I,
-) -> DVec3 {
-    let (sum, total) = accumulate(
-        filter,
-        (x, y),
-        (width, height),
-        Lines(subsample),
-        samples_of,
-        |_, _, _, _| {},
-    );
-    if total.abs() < 1e-12 {
-        DVec3::ZERO
-    } else {
-        sum / total
-    }
-}
-// ANCHOR_END: reconstruct
-
 /// Bytes a render of `width`×`height` at `spp` samples per pixel holds at its peak: every
 /// sample kept for reconstruction (film position and colour), each pixel's sample list, the
 /// linear image, the 8-bit image and its PNG encoding.
@@ -553,58 +307,4 @@ pub fn check_memory(width: u32, height: u32, spp: u32) -> Result<(), String> {
         ));
     }
     Ok(())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// `Lines(k).within` lists exactly the lines of a range that trace under `--subsample k`
-    /// (the multiples of k and the last line), in increasing order.
-    #[test]
-    fn lines_are_the_traced_ones_in_order() {
-        for n in [1u32, 2, 7, 8, 9, 33] {
-            for k in 1..=9u32 {
-                for lo in -10i64..=n as i64 + 2 {
-                    for hi in lo - 1..=lo + 12 {
-                        let got: Vec<u32> = Lines(k).within(lo, hi, n).collect();
-                        // The renderer's own rule, along one axis (the other at 0).
-                        let settings = RenderSettings {
-                            subsample: k,
-                            ..Default::default()
-                        };
-                        let want: Vec<u32> = (lo.max(0)..=hi.min(n as i64 - 1))
-                            .map(|q| q as u32)
-                            .filter(|&q| super::super::traces_samples(&settings, n, 1, q, 0))
-                            .collect();
-                        assert_eq!(got, want, "n {n}, k {k}, {lo}..={hi}");
-                    }
-                }
-            }
-        }
-    }
-
-    /// Every pixel is in exactly one tile, the one the index rule names, and edge tiles are
-    /// cut to the image.
-    #[test]
-    fn tiles_cover_every_pixel_once() {
-        for (w, h) in [(1, 1), (16, 16), (17, 5), (40, 33), (1280, 720)] {
-            let tiles = tiles(w, h);
-            let mut seen = vec![0u32; (w * h) as usize];
-            for (t, tile) in tiles.iter().enumerate() {
-                assert!(!tile.is_empty() && tile.x.len() <= 16 && tile.y.len() <= 16);
-                for (x, y) in tile.pixels() {
-                    seen[(y * w + x) as usize] += 1;
-                    assert_eq!(t as u32, (y / TILE) * w.div_ceil(TILE) + x / TILE);
-                }
-            }
-            assert!(seen.iter().all(|&n| n == 1), "{w}×{h}");
-            let order: Vec<_> = row_major_order(w, h).collect();
-            for (t, tile) in tiles.iter().enumerate() {
-                for (l, (x, y)) in tile.pixels().enumerate() {
-                    assert_eq!(order[(y * w + x) as usize], (t, l), "{w}×{h} ({x}, {y})");
-                }
-            }
-        }
-    }
 }

@@ -4,15 +4,18 @@ pub mod aov;
 pub mod bundles;
 mod film;
 mod filter;
+mod image;
 pub mod progressive;
+mod reconstruct;
 mod sampler;
+mod tiles;
 
-pub use film::{check_memory, memory_needed, row_major_order, tiles, Tile, MEMORY_BUDGET, TILE};
-pub use film::{
-    encode, encode_as, reconstruct as render_reconstruct, render, render_cancellable, render_until,
-    Image, RenderOutput, RenderStats,
-};
+pub use film::{check_memory, memory_needed, MEMORY_BUDGET};
+pub use film::{render, render_cancellable, render_until, RenderOutput, RenderStats};
 pub use filter::Filter;
+pub use image::{encode, encode_as, Image};
+pub use reconstruct::reconstruct as render_reconstruct;
 pub use sampler::{
     pixel_samples, planned_films, sample_pixel, traces_samples, validate_spp, PixelSample,
 };
+pub use tiles::{row_major_order, tiles, Tile, TILE};
