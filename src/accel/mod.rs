@@ -259,8 +259,27 @@ impl Accel {
     /// measure, so under them every object is tested, the lecture's loop; `object-space-t`
     /// then ranks each hit by its t along the object-space direction made unit length,
     /// t_object = t·|M⁻¹d| (the hit itself, point and normal, stays right).
+    #[inline]
     pub fn closest_as<R: Recorder>(
         &self,
+        objects: &[Object],
+        ray: &Ray,
+        t_min: f64,
+        t_max: f64,
+        mistakes: Mistakes,
+        rec: &mut R,
+    ) -> Option<(usize, LocalHit)> {
+        if !mistakes.changes_hits() {
+            return self.closest(objects, ray, t_min, t_max, rec);
+        }
+        Accel::closest_every_object(objects, ray, t_min, t_max, mistakes, rec)
+    }
+
+    /// [`Accel::closest_as`] under a mistake that changes hits: the lecture's loop over every
+    /// object. Out of line, so the renderer's own path stays small enough to inline.
+    #[cold]
+    #[inline(never)]
+    fn closest_every_object<R: Recorder>(
         objects: &[Object],
         ray: &Ray,
         t_min: f64,
@@ -268,9 +287,6 @@ impl Accel {
         mistakes: Mistakes,
         rec: &mut R,
     ) -> Option<(usize, LocalHit)> {
-        if !mistakes.changes_hits() {
-            return self.closest(objects, ray, t_min, t_max, rec);
-        }
         let object_t = mistakes.has(Mistake::ObjectSpaceT);
         let mut best: Option<(usize, LocalHit)> = None;
         let mut key: Option<(f64, usize)> = None;
