@@ -310,6 +310,7 @@ impl Accel {
     }
 
     /// [`Accel::occluded`] under the catalogue's mistakes (`cap-radius`: every object).
+    #[inline]
     pub fn occluded_as<R: Recorder>(
         &self,
         objects: &[Object],
@@ -322,6 +323,20 @@ impl Accel {
         if !(mistakes.has(Mistake::CapRadius) || mistakes.has(Mistake::ConeNormal)) {
             return self.occluded(objects, ray, t_min, t_max, rec);
         }
+        Accel::occluded_every_object(objects, ray, t_min, t_max, mistakes, rec)
+    }
+
+    /// [`Accel::occluded_as`] under `cap-radius` or `cone-normal`: every object, in order.
+    #[cold]
+    #[inline(never)]
+    fn occluded_every_object<R: Recorder>(
+        objects: &[Object],
+        ray: &Ray,
+        t_min: f64,
+        t_max: f64,
+        mistakes: Mistakes,
+        rec: &mut R,
+    ) -> Option<(usize, LocalHit)> {
         (0..objects.len()).find_map(|i| {
             test_object_as(objects, i, ray, t_min, t_max, mistakes, rec).map(|h| (i, h))
         })
@@ -330,6 +345,7 @@ impl Accel {
     // ANCHOR: occluded
     /// Any hit with t in [t_min, t_max] (shadow rays): the first object found, not the
     /// closest, and inside a mesh the first face found.
+    #[inline]
     pub fn occluded<R: Recorder>(
         &self,
         objects: &[Object],

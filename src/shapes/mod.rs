@@ -157,7 +157,7 @@ impl Shape {
     /// Is there any intersection with `t_min <= t <= t_max`? For shadow rays: a mesh stops at
     /// the first face it finds; other shapes answer with their closest hit (as cheap).
     /// Returns that hit; `is_some()` always equals `intersect(..).is_some()`.
-    #[inline]
+    #[inline(always)]
     pub fn occluded<O: Observer>(
         &self,
         ray: &Ray,
