@@ -24,12 +24,18 @@ pub(super) struct At {
     pub below: DVec3,
 }
 
+/// How far off the surface at `p` a spawned ray starts: ε, scaled with the size of the
+/// coordinates so that it stays above their rounding far from the origin.
+fn offset(epsilon: f64, p: DVec3) -> f64 {
+    epsilon * (1.0 + p.abs().max_element())
+}
+
 impl At {
     fn new(ray: &Ray, hit: &HitInfo, epsilon: f64) -> At {
         let d = ray.dir.normalize();
         let entering = hit.normal.dot(d) < 0.0;
         let n = if entering { hit.normal } else { -hit.normal }; // faces the incoming ray
-        let eps = epsilon * (1.0 + hit.point.abs().max_element());
+        let eps = offset(epsilon, hit.point);
         At {
             d,
             entering,
@@ -231,7 +237,6 @@ impl Tracer<'_> {
     ) -> DVec3 {
         let (d, n, entering) = (at.d, at.n, at.entering);
         let ior = self.scene.material_of(hit.object).ior[0];
-        let eps = |p: DVec3| self.settings.epsilon * (1.0 + p.abs().max_element());
         let (depth, weight) = (st.depth, st.weight);
         // Met from inside (a camera inside the object): one bend, out.
         let eta = if entering { 1.0 / ior } else { ior };
@@ -239,7 +244,7 @@ impl Tracer<'_> {
             *st.end = End::TotalInternalReflection;
             return DVec3::ZERO;
         };
-        let inner = Ray::new(hit.point - n * eps(hit.point), d_in);
+        let inner = Ray::new(at.below, d_in);
         rec.weight(w);
         if !entering {
             return w * self.trace(&inner, RayKind::Refraction, depth + 1, weight * w, rng, rec);
@@ -264,7 +269,10 @@ impl Tracer<'_> {
             rec.end_ray(DVec3::ZERO, End::TotalInternalReflection, false);
             return DVec3::ZERO;
         };
-        let out = Ray::new(exit.point - n_exit * eps(exit.point), d_out);
+        let out = Ray::new(
+            exit.point - n_exit * offset(self.settings.epsilon, exit.point),
+            d_out,
+        );
         rec.weight(DVec3::ONE);
         let i = self.trace(&out, RayKind::Refraction, depth + 1, weight * w, rng, rec);
         rec.end_ray(i, End::Shaded, false);
