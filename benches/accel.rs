@@ -430,21 +430,25 @@ fn each_block(tile: &rtlab::sampling::Tile, mut block: impl FnMut(&[(usize, usiz
 }
 
 /// The camera rays in bundles of 4×4 pixels within each tile, through
-/// `Accel::closest_bundle`: seconds and t per pixel (−1 for a miss), row-major.
+/// `Accel::closest_bundle_into`: seconds and t per pixel (−1 for a miss), row-major.
 fn bundle_pass(scene: &Scene, cam: &HarnessCamera, pool: &rayon::ThreadPool) -> (f64, Vec<f64>) {
-    use rtlab::accel::BundleCost;
+    use rtlab::accel::{BundleCost, BUNDLE};
     let start = Instant::now();
     let traced = per_tile(pool, |tile| {
         let mut t = vec![-1.0; tile.len()];
+        let mut rays = [Ray::new(glam::DVec3::ZERO, glam::DVec3::X); BUNDLE];
+        let mut hits = [None; BUNDLE];
         each_block(tile, |pixels| {
-            let rays: arrayvec::ArrayVec<Ray, 16> =
-                pixels.iter().map(|&(x, y, _)| cam.ray(x, y)).collect();
+            for (ray, &(x, y, _)) in rays.iter_mut().zip(pixels) {
+                *ray = cam.ray(x, y);
+            }
             let mut cost = BundleCost::default();
-            let hits = scene
+            let rays = &rays[..pixels.len()];
+            scene
                 .accel
-                .closest_bundle(&scene.objects, &rays, 0.0, &mut cost);
+                .closest_bundle_into(&scene.objects, rays, 0.0, &mut cost, &mut hits);
             for (j, &(_, _, l)) in pixels.iter().enumerate() {
-                t[l] = hits[j].map_or(-1.0, |(_, h)| h.t);
+                t[l] = hits[j].as_ref().map_or(-1.0, |(_, h)| h.t);
             }
         });
         t

@@ -20,7 +20,7 @@
 //! passes a zero-sized no-op recorder; `explain`, `--stats` and the figures pass recorders that
 //! keep what they need. There is no second copy of any intersection or shading formula.
 
-#![forbid(unsafe_code)]
+#![deny(unsafe_code)]
 
 pub mod accel;
 pub mod camera;

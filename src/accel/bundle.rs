@@ -1,32 +1,40 @@
 //! Bundle traversal (beam tracing's modern form): up to [`BUNDLE`] neighbouring rays walk a
-//! BVH together. A node is opened once for the whole bundle; each ray still active there
-//! gets the node's conservative f32 slab test ([`Node::enter`], four boxes at once), and a
-//! child is culled when it misses every ray of the bundle. A leaf's primitives are tested
-//! against the rays that reached it by the caller's exact f64 routine, so which primitive a
-//! ray hits, and at what t, is exactly what the single-ray walk ([`Bvh::closest`]) finds, as
-//! long as the caller breaks ties the same way (closest t, then lowest index: order-free).
+//! BVH together.
 //!
-//! What is shared: fetching and decoding each node, the stack, ordering the children, and
-//! (for meshes) preparing a face's corner and edges once for all rays that test it.
+//! The rays are stored lane by lane ([`RayBundle`], sixteen lanes). At each node the bundle
+//! opens, two tests decide which of its four children to go on with:
+//!
+//! 1. the **interval test** tests the four boxes against the whole bundle at once: its range
+//!    of origins and of reciprocal directions per axis, so one test bounds every ray's entry
+//!    and exit, and a box it rejects is missed by every ray;
+//! 2. each box that passes gets the **lane test**: the box against all sixteen rays in one
+//!    pass over the lanes, which gives exactly the verdict each ray's own slab test gives.
+//!
+//! A child goes on the stack with the rays that enter it and the interval test's entry t (a
+//! lower bound for all of them), so rays that have since found a closer hit drop out when it
+//! comes off. A leaf's primitives are tested against the rays that reached it by the
+//! caller's exact f64 routine ([`BundleLeaf`]); which primitive a ray hits, and at what t, is
+//! exactly what the single-ray walk ([`Bvh::closest`]) finds, as long as the caller breaks
+//! ties the same way (closest t, then lowest slot: order-free). When only a few rays are left
+//! in a subtree ([`FEW`]) the bundle stops paying, and each of them walks that subtree alone
+//! with the single-ray walk; a bundle whose rays point different ways along an axis (the
+//! interval test needs one sign) walks ray by ray from the root.
 
-use super::bvh::{down, up, Bvh, Node, RayBox, STACK, WIDTH};
+use super::bvh::{
+    bracket, down, up, Bvh, Node, Pending as Single, RayBox, Visit, VisitAny, GROW, SHRINK, STACK,
+    WIDTH,
+};
+use super::isa::Wide;
+use super::lanes::{count, F32s, F64s, FW, LANES};
 use crate::math::Ray;
 use arrayvec::ArrayVec;
 
 /// Rays in a bundle: a 4×4 block of pixels (camera rays of one sample index).
-pub const BUNDLE: usize = 16;
+pub const BUNDLE: usize = LANES;
 
-/// A child waiting on the bundle's stack: which rays entered it, and the earliest entry of
-/// any of them (a lower bound for each, for skipping the rays that found a closer hit since
-/// it was pushed). One t for all keeps an entry at 16 bytes: a t per ray made it 76, and the
-/// copies in and out cost more than the slab tests the finer skip saved.
-#[derive(Clone, Copy)]
-struct Pending {
-    child: u32,
-    count: u32,
-    rays: u32,
-    t_first: f32,
-}
+/// A subtree that no more than this many of the bundle's rays enter is walked by each of them
+/// alone: the lane test's sixteen lanes cost the same for one ray as for sixteen.
+pub const FEW: u32 = 2;
 
 /// What a bundle traversal did: nodes opened (once per bundle), and per ray the nodes it
 /// was slab-tested at (what the single-ray walk would call the nodes it visited).
@@ -36,68 +44,354 @@ pub struct BundleWork {
     pub ray_nodes: [u32; BUNDLE],
 }
 
-impl Bvh {
-    // ANCHOR: closest_bundle
-    /// Closest hits of `rays` (at most [`BUNDLE`]; bit i of `active` says ray i takes part).
-    /// `t_max[i]` is ray i's best t so far; `test(k, rays, t_max)` tests primitive slot `k`
-    /// against the rays whose bits are set in `rays` and lowers `t_max[i]` for each ray that
-    /// hit it closer (keeping the hit itself). The children of an opened node are visited
-    /// nearest first by the nearest entry of any ray.
-    #[inline]
-    pub fn closest_bundle(
-        &self,
-        rays: &[Ray],
-        active: u32,
-        t_min: f64,
-        t_max: &mut [f64; BUNDLE],
-        work: &mut BundleWork,
-        test: impl FnMut(usize, u32, &mut [f64; BUNDLE]),
-    ) {
-        self.closest_bundle_seen(rays, active, t_min, t_max, work, test, |_, _, _| {});
+// ANCHOR: ray_bundle
+/// Up to sixteen rays prepared for the walk, lane by lane: each ray's reciprocal direction
+/// and bracketed origin in `f32` (what its own slab test uses, [`RayBox`]), and per axis the
+/// bundle's bounds for the interval test. Lanes past the last ray repeat it; `all` says
+/// which lanes hold rays.
+#[derive(Debug, Clone)]
+pub struct RayBundle<'r> {
+    pub rays: &'r [Ray],
+    pub all: u32,
+    /// The directions in `f64`, axis by axis (for the faces' exact test).
+    pub dir: [F64s; 3],
+    /// Every ray starts at the same point (camera rays of a pinhole camera): its bracket is
+    /// then `shared_below`/`shared_above`, and the lane test subtracts one number.
+    pub shared_origin: bool,
+    inv: [F32s; 3],
+    /// Each ray's origin rounded down and up to `f32` ([`super::bvh::bracket`]), per axis.
+    below: [F32s; 3],
+    above: [F32s; 3],
+    shared_below: [f32; 3],
+    shared_above: [f32; 3],
+    /// Per axis: does every ray point towards −axis (they all agree, or `coherent` is false)?
+    neg: [bool; 3],
+    /// The directions agree in sign on every axis: the bundle can walk together.
+    pub coherent: bool,
+    /// Per axis, the interval test's bounds; `None` where some reciprocal direction is not
+    /// finite (that axis then constrains nothing).
+    interval: [Option<Interval>; 3],
+}
+
+/// The bundle along one axis: the extreme bracketed origins on the entry and exit sides,
+/// and the range of the reciprocal directions (all of one sign).
+#[derive(Debug, Clone, Copy)]
+struct Interval {
+    origin_in: f32,
+    origin_out: f32,
+    inv_lo: f32,
+    inv_hi: f32,
+}
+// ANCHOR_END: ray_bundle
+
+impl<'r> RayBundle<'r> {
+    /// Prepares 1 to [`BUNDLE`] rays.
+    #[inline(always)]
+    pub fn new(rays: &'r [Ray]) -> RayBundle<'r> {
+        let n = rays.len();
+        assert!(
+            (1..=BUNDLE).contains(&n),
+            "a bundle holds 1 to {BUNDLE} rays, not {n}"
+        );
+        let all = u32::MAX >> (32 - n);
+        let mut dir = [F64s([0.0; LANES]); 3];
+        let origin = rays[0].origin;
+        let mut shared_origin = true;
+        for i in 0..LANES {
+            let ray = &rays[i.min(n - 1)];
+            shared_origin &= ray.origin == origin;
+            dir[0].0[i] = ray.dir.x;
+            dir[1].0[i] = ray.dir.y;
+            dir[2].0[i] = ray.dir.z;
+        }
+        // As `RayBox::new`: 1/d in f64, then rounded to f32.
+        let mut inv = [F32s([0.0; LANES]); 3];
+        for k in 0..3 {
+            for i in 0..LANES {
+                inv[k].0[i] = (1.0 / dir[k].0[i]) as f32;
+            }
+        }
+        // Lanes past the last ray repeat it, so every lane agrees or the bundle is mixed.
+        let every = u32::MAX >> (32 - LANES);
+        let (mut coherent, mut neg) = (true, [false; 3]);
+        let o = origin.to_array();
+        let (mut shared_below, mut shared_above) = ([0.0; 3], [0.0; 3]);
+        let (mut below, mut above) = ([F32s::splat(0.0); 3], [F32s::splat(0.0); 3]);
+        for k in 0..3 {
+            let negs = inv[k].below_zero();
+            coherent &= negs == 0 || negs == every;
+            neg[k] = negs != 0;
+            (shared_below[k], shared_above[k]) = bracket(o[k]);
+            below[k] = F32s::splat(shared_below[k]);
+            above[k] = F32s::splat(shared_above[k]);
+        }
+        if !shared_origin {
+            for i in 0..LANES {
+                let p = rays[i.min(n - 1)].origin.to_array();
+                for k in 0..3 {
+                    (below[k].0[i], above[k].0[i]) = bracket(p[k]);
+                }
+            }
+        }
+        let mut interval = [None; 3];
+        for k in 0..3 {
+            let (inv_lo, inv_hi) = inv[k].range();
+            if !(coherent && inv_lo.is_finite() && inv_hi.is_finite()) {
+                continue;
+            }
+            let (below_lo, above_hi) = if shared_origin {
+                (shared_below[k], shared_above[k])
+            } else {
+                (below[k].range().0, above[k].range().1)
+            };
+            // The entry bound wants the origin that makes (plane − o)·(1/d) smallest: the
+            // largest o for a positive direction (which enters with o rounded up), the
+            // smallest for a negative one (o rounded down); the exit bound the opposite.
+            interval[k] = Some(Interval {
+                origin_in: if neg[k] { below_lo } else { above_hi },
+                origin_out: if neg[k] { above_hi } else { below_lo },
+                inv_lo,
+                inv_hi,
+            });
+        }
+        RayBundle {
+            rays,
+            all,
+            dir,
+            shared_origin,
+            inv,
+            below,
+            above,
+            shared_below,
+            shared_above,
+            neg,
+            coherent,
+            interval,
+        }
     }
 
-    /// [`Bvh::closest_bundle`], telling `seen(node, lane, rays)` about every non-empty child
-    /// lane of every node it opens: `rays` is the mask of the bundle's rays that enter it
-    /// (0: culled, every ray missed it). For figures; the render passes a no-op.
-    #[allow(clippy::too_many_arguments)]
-    #[inline]
-    pub fn closest_bundle_seen(
+    /// Ray i's own slab-test form (as [`RayBox::new`] gives it).
+    #[inline(always)]
+    fn ray_box(&self, i: usize) -> RayBox {
+        let mut r = RayBox {
+            origin_in: [0.0; 3],
+            origin_out: [0.0; 3],
+            inv: [0.0; 3],
+            neg: [false; 3],
+        };
+        for k in 0..3 {
+            let inv = self.inv[k].0[i];
+            let (below, above) = (self.below[k].0[i], self.above[k].0[i]);
+            r.neg[k] = inv < 0.0;
+            r.inv[k] = inv;
+            r.origin_in[k] = if r.neg[k] { below } else { above };
+            r.origin_out[k] = if r.neg[k] { above } else { below };
+        }
+        r
+    }
+
+    // ANCHOR: interval_test
+    /// The interval test: the node's four boxes against the whole bundle. Returns the lanes
+    /// some ray may enter, and per lane a t no later than any ray's entry.
+    ///
+    /// Along an axis with a positive direction a ray enters at (lo − o)·(1/d). Over the
+    /// bundle, (lo − o) is smallest for the largest origin, and the product of that fixed
+    /// difference with 1/d is smallest at one end of the range of 1/d; rounding to nearest
+    /// is monotonic, so the same `f32` operations on these bounds give a t no later than the
+    /// one each ray's own test computes, and never cull a box a ray's own test keeps.
+    #[inline(always)]
+    fn interval_enter(&self, nd: &Node, t_min: f32) -> (u32, [f32; WIDTH]) {
+        let mut near = FW::splat(t_min);
+        let mut far = FW::splat(f32::INFINITY);
+        for k in 0..3 {
+            let Some(iv) = self.interval[k] else { continue };
+            let (e, x) = (self.neg[k] as usize, !self.neg[k] as usize);
+            let a = FW::load(&nd.planes[e][k]) - FW::splat(iv.origin_in);
+            let b = FW::load(&nd.planes[x][k]) - FW::splat(iv.origin_out);
+            let (lo, hi) = (FW::splat(iv.inv_lo), FW::splat(iv.inv_hi));
+            near = (a * lo).min_or(a * hi).max_or(near);
+            far = (b * lo).max_or(b * hi).min_or(far);
+        }
+        let near = near * FW::splat(SHRINK);
+        (near.le_mask(far * FW::splat(GROW)), near.0)
+    }
+    // ANCHOR_END: interval_test
+
+    // ANCHOR: lane_test
+    /// The lane test: box `lane` of the node against all sixteen rays, each within its own
+    /// [t_min, t_max]. Bit i is exactly what ray i's own slab test ([`Node::enter`]) says
+    /// of that box: the same operations in the same order, one lane per ray. (`SHARED`:
+    /// every ray starts at the same point, so the plane minus the origin is one number.)
+    /// Returns the rays of `rays` that enter, and the earliest entry among them.
+    #[inline(always)]
+    fn lane_enter<W: Wide, const SHARED: bool>(
         &self,
-        rays: &[Ray],
+        w: W,
+        nd: &Node,
+        lane: usize,
+        t_min: f32,
+        t_max: W::F,
+        rays: u32,
+    ) -> (u32, f32) {
+        let mut near = w.splat(t_min);
+        let mut far = t_max;
+        for k in 0..3 {
+            let (e, x) = (self.neg[k] as usize, !self.neg[k] as usize);
+            let (entry, exit) = (nd.planes[e][k][lane], nd.planes[x][k][lane]);
+            let inv = w.load(&self.inv[k]);
+            let (t_in, t_out) = if SHARED {
+                let (o_in, o_out) = if self.neg[k] {
+                    (self.shared_below[k], self.shared_above[k])
+                } else {
+                    (self.shared_above[k], self.shared_below[k])
+                };
+                (
+                    w.mul(w.splat(entry - o_in), inv),
+                    w.mul(w.splat(exit - o_out), inv),
+                )
+            } else {
+                let (o_in, o_out) = if self.neg[k] {
+                    (&self.below[k], &self.above[k])
+                } else {
+                    (&self.above[k], &self.below[k])
+                };
+                (
+                    w.mul(w.sub(w.splat(entry), w.load(o_in)), inv),
+                    w.mul(w.sub(w.splat(exit), w.load(o_out)), inv),
+                )
+            };
+            near = w.max(t_in, near);
+            far = w.min(t_out, far);
+        }
+        let near = w.mul(near, w.splat(SHRINK));
+        let entered = w.le(near, w.mul(far, w.splat(GROW))) & rays;
+        (entered, w.min_of(near, entered))
+    }
+    // ANCHOR_END: lane_test
+}
+
+/// What a bundle walk asks of the primitives in its leaves.
+pub trait BundleLeaf {
+    /// Tests primitive slot `k` against the rays whose bits are set in `rays`, lowering
+    /// `t_max[i]` for each ray that hit it closer (and keeping the hit itself).
+    fn test(&mut self, k: usize, rays: u32, t_max: &mut [f64; BUNDLE]);
+
+    /// Does `seen` want to hear of every child the bundle tests (for figures)?
+    const SEES: bool = false;
+    /// Child `lane` of the opened node `node`, and the rays that enter it (0: culled).
+    #[inline(always)]
+    fn seen(&mut self, _node: usize, _lane: usize, _rays: u32) {}
+}
+
+/// What a shadow-ray bundle asks of the primitives in its leaves.
+pub trait BundleAnyLeaf {
+    /// Tests primitive slot `k` against the rays in `rays`; returns those it blocks.
+    fn test(&mut self, k: usize, rays: u32) -> u32;
+}
+
+/// A child waiting on the bundle's stack: which rays entered it, and the interval test's
+/// entry t, a lower bound for each of them (to skip the rays that found a closer hit since
+/// it was pushed).
+#[derive(Clone, Copy)]
+struct Pending {
+    child: u32,
+    count: u32,
+    rays: u32,
+    t_first: f32,
+}
+
+impl Pending {
+    fn single(&self) -> Single {
+        Single {
+            t_enter: self.t_first,
+            child: self.child,
+            count: self.count,
+        }
+    }
+}
+
+impl Bvh {
+    // ANCHOR: closest_bundle
+    /// Closest hits of a bundle (bit i of `active`: ray i takes part). `t_max[i]` is ray
+    /// i's best t so far; `leaf` tests primitives and lowers it. The children of an opened
+    /// node are visited nearest first by the interval test's entry.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    pub fn closest_bundle<W: Wide, L: BundleLeaf>(
+        &self,
+        w: W,
+        b: &RayBundle,
         active: u32,
         t_min: f64,
         t_max: &mut [f64; BUNDLE],
         work: &mut BundleWork,
-        mut test: impl FnMut(usize, u32, &mut [f64; BUNDLE]),
-        mut seen: impl FnMut(usize, usize, u32),
+        leaf: &mut L,
     ) {
+        debug_assert!(t_min >= 0.0, "bundles are rays, not lines");
+        let active = active & b.all;
         if self.nodes.is_empty() || active == 0 {
             return;
         }
-        let (boxes, t_min32, mut t_max32) = prepare(rays, t_min, t_max);
+        if !b.coherent {
+            self.closest_alone(b, active, Single::ROOT, t_min, t_max, work, leaf);
+        } else if b.shared_origin {
+            self.closest_together::<W, true, L>(w, b, active, t_min, t_max, work, leaf);
+        } else {
+            self.closest_together::<W, false, L>(w, b, active, t_min, t_max, work, leaf);
+        }
+    }
+    // ANCHOR_END: closest_bundle
+
+    /// [`Bvh::closest_bundle`] for a coherent bundle.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn closest_together<W: Wide, const SHARED: bool, L: BundleLeaf>(
+        &self,
+        w: W,
+        b: &RayBundle,
+        active: u32,
+        t_min: f64,
+        t_max: &mut [f64; BUNDLE],
+        work: &mut BundleWork,
+        leaf: &mut L,
+    ) {
+        let t_min32 = down(t_min);
+        let mut t_max32 = F32s::up(t_max);
         let mut stack = ArrayVec::<Pending, STACK>::new();
-        let mut node = 0usize;
-        let mut mask = active;
+        let (mut node, mut mask) = (0usize, active);
         loop {
             work.opened += 1;
+            count(&mut work.ray_nodes, mask);
             let nd = &self.nodes[node];
-            let (lane_rays, first) = enter_all(nd, &boxes, mask, t_min32, &t_max32, work);
-            // Children entered by some ray, farthest (by the nearest ray's entry) pushed first.
-            let mut order: ArrayVec<(f32, usize), WIDTH> = ArrayVec::new();
+            let (lanes, _) = b.interval_enter(nd, t_min32);
+            // The children some ray enters, nearest last, to be pushed in that order.
+            let mut order = [(0.0f32, 0usize, 0u32); WIDTH];
+            let mut n = 0;
             for lane in 0..WIDTH {
-                if !nd.is_empty(lane) {
-                    seen(node, lane, lane_rays[lane]);
+                let (rays, near) = if lanes >> lane & 1 == 1 {
+                    b.lane_enter::<W, SHARED>(w, nd, lane, t_min32, w.load(&t_max32), mask)
+                } else {
+                    (0, 0.0)
+                };
+                if L::SEES && !nd.is_empty(lane) {
+                    leaf.seen(node, lane, rays);
                 }
-                if lane_rays[lane] != 0 {
-                    order.push((first[lane], lane));
+                if rays != 0 {
+                    let item = (near, lane, rays);
+                    let mut j = n;
+                    while j > 0 && order[j - 1].0 < item.0 {
+                        order[j] = order[j - 1];
+                        j -= 1;
+                    }
+                    order[j] = item;
+                    n += 1;
                 }
             }
-            order.sort_unstable_by(|a, b| b.0.total_cmp(&a.0).then(b.1.cmp(&a.1)));
-            for &(t_first, lane) in &order {
+            for &(t_first, lane, rays) in &order[..n] {
                 stack.push(Pending {
                     child: nd.child[lane],
                     count: nd.count[lane],
-                    rays: lane_rays[lane],
+                    rays,
                     t_first,
                 });
             }
@@ -105,148 +399,216 @@ impl Bvh {
             loop {
                 let Some(p) = stack.pop() else { return };
                 // Rays that found a hit closer than where the bundle enters this child drop out.
-                let mut rays_in = 0u32;
-                let mut r = p.rays;
-                while r != 0 {
-                    let i = r.trailing_zeros() as usize;
-                    r &= r - 1;
-                    if p.t_first as f64 <= t_max[i] {
-                        rays_in |= 1 << i;
-                    }
+                let rays = w.le(w.splat(p.t_first), w.load(&t_max32)) & p.rays;
+                if rays == 0 {
+                    continue;
                 }
-                if rays_in == 0 {
+                if rays.count_ones() <= FEW {
+                    self.closest_alone(b, rays, p.single(), t_min, t_max, work, leaf);
+                    for i in Bits(rays) {
+                        t_max32.0[i] = up(t_max[i]);
+                    }
                     continue;
                 }
                 if p.count == 0 {
-                    node = p.child as usize;
-                    mask = rays_in;
+                    (node, mask) = (p.child as usize, rays);
                     break;
                 }
                 for k in p.child as usize..(p.child + p.count) as usize {
-                    test(k, rays_in, t_max);
+                    leaf.test(k, rays, t_max);
                 }
-                let mut r = rays_in;
-                while r != 0 {
-                    let i = r.trailing_zeros() as usize;
-                    r &= r - 1;
-                    t_max32[i] = up(t_max[i]);
+                for i in Bits(rays) {
+                    t_max32.0[i] = up(t_max[i]);
                 }
             }
         }
     }
-    // ANCHOR_END: closest_bundle
+
+    /// Each ray in `rays` walks from `start` alone, with the single-ray walk.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn closest_alone<L: BundleLeaf>(
+        &self,
+        b: &RayBundle,
+        rays: u32,
+        start: Single,
+        t_min: f64,
+        t_max: &mut [f64; BUNDLE],
+        work: &mut BundleWork,
+        leaf: &mut L,
+    ) {
+        for i in Bits(rays) {
+            let r = b.ray_box(i);
+            let mut visited = 0;
+            let ray_t = t_max[i];
+            let one = OneRay { leaf, i, t_max };
+            self.closest_from::<false, ()>(&r, start, t_min, ray_t, &mut visited, one);
+            work.ray_nodes[i] += visited;
+        }
+    }
 }
 
 impl Bvh {
     // ANCHOR: any_bundle
-    /// Shadow rays in a bundle: which of `rays` (bit i of `active`: ray i takes part, within
-    /// [t_min, t_max[i]]) are blocked. The bundle walks the tree together as in
-    /// [`Bvh::closest_bundle`], children in no particular order; `test(k, rays)` tests
-    /// primitive slot `k` against the rays in `rays` and returns those it blocks. A ray
-    /// leaves the bundle once blocked, and the walk ends when every ray is, so each ray's
-    /// verdict is what [`Bvh::any`] gives it alone.
-    pub fn any_bundle(
+    /// Shadow rays in a bundle: which of its rays (bit i of `active`: ray i takes part,
+    /// within [t_min, t_max[i]]) are blocked. The bundle walks the tree together as in
+    /// [`Bvh::closest_bundle`], children in no particular order; `leaf` tests a primitive
+    /// against some rays and returns those it blocks. A ray leaves the bundle once blocked,
+    /// and the walk ends when every ray is, so each ray's verdict is what [`Bvh::any`] gives
+    /// it alone.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    pub fn any_bundle<W: Wide, L: BundleAnyLeaf>(
         &self,
-        rays: &[Ray],
+        w: W,
+        b: &RayBundle,
         active: u32,
         t_min: f64,
         t_max: &[f64; BUNDLE],
         work: &mut BundleWork,
-        mut test: impl FnMut(usize, u32) -> u32,
+        leaf: &mut L,
     ) -> u32 {
+        let active = active & b.all;
         if self.nodes.is_empty() || active == 0 {
             return 0;
         }
-        let (boxes, t_min32, t_max32) = prepare(rays, t_min, t_max);
+        if !b.coherent {
+            self.any_alone(b, active, Single::ROOT, t_min, t_max, leaf)
+        } else if b.shared_origin {
+            self.any_together::<W, true, L>(w, b, active, t_min, t_max, work, leaf)
+        } else {
+            self.any_together::<W, false, L>(w, b, active, t_min, t_max, work, leaf)
+        }
+    }
+    // ANCHOR_END: any_bundle
+
+    /// [`Bvh::any_bundle`] for a coherent bundle.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn any_together<W: Wide, const SHARED: bool, L: BundleAnyLeaf>(
+        &self,
+        w: W,
+        b: &RayBundle,
+        active: u32,
+        t_min: f64,
+        t_max: &[f64; BUNDLE],
+        work: &mut BundleWork,
+        leaf: &mut L,
+    ) -> u32 {
+        let t_min32 = down(t_min);
+        let t_max32 = F32s::up(t_max);
         let mut blocked = 0u32;
-        let mut stack = ArrayVec::<(u32, u32), STACK>::new();
-        stack.push((0, active));
-        while let Some((node, rays_in)) = stack.pop() {
-            let mask = rays_in & !blocked;
-            if mask == 0 {
+        let mut stack = ArrayVec::<(u32, u32, u32), STACK>::new();
+        stack.push((0, 0, active));
+        while let Some((child, n_prims, rays_in)) = stack.pop() {
+            let rays = rays_in & !blocked;
+            if rays == 0 {
                 continue;
             }
-            work.opened += 1;
-            let nd = &self.nodes[node as usize];
-            let (lane_rays, _) = enter_all(nd, &boxes, mask, t_min32, &t_max32, work);
-            for (lane, &entered) in lane_rays.iter().enumerate() {
-                let r = entered & !blocked;
-                if r == 0 {
-                    continue;
-                }
-                let (child, count) = (nd.child[lane], nd.count[lane]);
-                if count == 0 {
-                    stack.push((child, r));
-                    continue;
-                }
-                let mut open = r;
-                for k in child as usize..(child + count) as usize {
-                    let b = test(k, open);
-                    blocked |= b;
-                    open &= !b;
+            let start = Single {
+                t_enter: 0.0,
+                child,
+                count: n_prims,
+            };
+            if rays.count_ones() <= FEW {
+                blocked |= self.any_alone(b, rays, start, t_min, t_max, leaf);
+            } else if n_prims > 0 {
+                let mut open = rays;
+                for k in child as usize..(child + n_prims) as usize {
+                    open &= !leaf.test(k, open);
                     if open == 0 {
                         break;
                     }
                 }
-                if blocked & active == active {
-                    return blocked;
+                blocked |= rays & !open;
+            } else {
+                work.opened += 1;
+                count(&mut work.ray_nodes, rays);
+                let nd = &self.nodes[child as usize];
+                let (lanes, _) = b.interval_enter(nd, t_min32);
+                for lane in 0..WIDTH {
+                    if lanes >> lane & 1 == 1 {
+                        let t_max = w.load(&t_max32);
+                        let (entered, _) =
+                            b.lane_enter::<W, SHARED>(w, nd, lane, t_min32, t_max, rays);
+                        if entered != 0 {
+                            stack.push((nd.child[lane], nd.count[lane], entered));
+                        }
+                    }
                 }
+            }
+            if blocked & active == active {
+                break;
             }
         }
         blocked
     }
-    // ANCHOR_END: any_bundle
-}
 
-/// A bundle's rays as the slab test wants them (the last ray repeated into unused slots),
-/// and its t range in f32, rounded outwards.
-#[inline(always)]
-fn prepare(
-    rays: &[Ray],
-    t_min: f64,
-    t_max: &[f64; BUNDLE],
-) -> ([RayBox; BUNDLE], f32, [f32; BUNDLE]) {
-    let n = rays.len();
-    debug_assert!(n <= BUNDLE && n > 0);
-    debug_assert!(t_min >= 0.0, "bundles are rays, not lines");
-    // Loops rather than `array::from_fn`: whether the compiler inlined from_fn's closure
-    // changed with how the crate fell into codegen units (80 instructions a pixel).
-    let mut boxes = [RayBox::new(&rays[n - 1]); BUNDLE];
-    for (b, r) in boxes.iter_mut().zip(&rays[..n - 1]) {
-        *b = RayBox::new(r);
-    }
-    let mut t_max32 = [0.0; BUNDLE];
-    for (t32, &t) in t_max32.iter_mut().zip(t_max) {
-        *t32 = up(t);
-    }
-    (boxes, down(t_min), t_max32)
-}
-
-/// Node `nd` opened for the rays in `mask`: each ray's slab test of the four children. Per
-/// child, the mask of the rays that enter it and the earliest entry among them (∞ if none).
-#[inline(always)]
-fn enter_all(
-    nd: &Node,
-    boxes: &[RayBox; BUNDLE],
-    mask: u32,
-    t_min32: f32,
-    t_max32: &[f32; BUNDLE],
-    work: &mut BundleWork,
-) -> ([u32; WIDTH], [f32; WIDTH]) {
-    let mut lane_rays = [0u32; WIDTH];
-    let mut first = [f32::INFINITY; WIDTH];
-    let mut m = mask;
-    while m != 0 {
-        let i = m.trailing_zeros() as usize;
-        m &= m - 1;
-        work.ray_nodes[i] += 1;
-        let (hit, t) = nd.enter::<false>(&boxes[i], t_min32, t_max32[i]);
-        for lane in 0..WIDTH {
-            let entered = (hit >> lane) & 1;
-            lane_rays[lane] |= entered << i;
-            let t = if entered != 0 { t[lane] } else { f32::INFINITY };
-            first[lane] = first[lane].min(t);
+    /// Each ray in `rays` walks from `start` alone (any hit); returns those blocked.
+    #[inline(always)]
+    fn any_alone<L: BundleAnyLeaf>(
+        &self,
+        b: &RayBundle,
+        rays: u32,
+        start: Single,
+        t_min: f64,
+        t_max: &[f64; BUNDLE],
+        leaf: &mut L,
+    ) -> u32 {
+        let mut blocked = 0;
+        for i in Bits(rays) {
+            let r = b.ray_box(i);
+            let mut visited = 0;
+            let one = OneAny { leaf, i };
+            let hit = self.any_from::<false>(&r, start, t_min, t_max[i], &mut visited, one);
+            blocked |= (hit.is_some() as u32) << i;
         }
+        blocked
     }
-    (lane_rays, first)
+}
+
+/// Ray i of a bundle walking alone: its leaf tests are the bundle's, for that ray only.
+struct OneRay<'a, L> {
+    leaf: &'a mut L,
+    i: usize,
+    t_max: &'a mut [f64; BUNDLE],
+}
+
+impl<L: BundleLeaf> Visit<()> for OneRay<'_, L> {
+    #[inline(always)]
+    fn test(&mut self, k: usize, best: f64) -> Option<(f64, ())> {
+        self.leaf.test(k, 1 << self.i, self.t_max);
+        let t = self.t_max[self.i];
+        (t < best).then_some((t, ()))
+    }
+}
+
+/// Shadow ray i of a bundle walking alone.
+struct OneAny<'a, L> {
+    leaf: &'a mut L,
+    i: usize,
+}
+
+impl<L: BundleAnyLeaf> VisitAny for OneAny<'_, L> {
+    #[inline(always)]
+    fn blocks(&mut self, k: usize) -> bool {
+        self.leaf.test(k, 1 << self.i) != 0
+    }
+}
+
+/// The set bits of a mask, lowest first.
+#[derive(Clone, Copy)]
+pub struct Bits(pub u32);
+
+impl Iterator for Bits {
+    type Item = usize;
+    #[inline(always)]
+    fn next(&mut self) -> Option<usize> {
+        if self.0 == 0 {
+            return None;
+        }
+        let i = self.0.trailing_zeros() as usize;
+        self.0 &= self.0 - 1;
+        Some(i)
+    }
 }

@@ -4,15 +4,19 @@
 
 mod bundle;
 mod bvh;
+pub mod isa;
+mod lanes;
 
-pub use bundle::{BundleWork, BUNDLE};
+pub use bundle::{Bits, BundleAnyLeaf, BundleLeaf, BundleWork, RayBundle, BUNDLE, FEW};
 pub use bvh::{Bvh, Node, WIDTH};
+pub use lanes::{count, F32s, F64s, LANES};
 
 use crate::math::Ray;
 use crate::mistakes::{Mistake, Mistakes};
 use crate::scene::Object;
 use crate::shapes::{Aabb, LocalHit};
 use crate::trace::Recorder;
+use isa::Kernel;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum AccelKind {
@@ -232,26 +236,30 @@ impl Accel {
         t_min: f64,
         cost: &mut BundleCost,
     ) -> [Option<(usize, LocalHit)>; BUNDLE] {
-        let all = bundle_mask(rays);
-        let mut best: [Option<(usize, LocalHit)>; BUNDLE] = [None; BUNDLE];
-        let mut t_max = [f64::INFINITY; BUNDLE];
-        for &i in &self.unbounded {
-            test_object_bundle(objects, i, rays, all, t_min, &mut t_max, &mut best, cost);
-        }
-        if self.bvh.nodes.is_empty() {
-            return best;
-        }
-        let mut work = BundleWork::default();
-        self.bvh
-            .closest_bundle(rays, all, t_min, &mut t_max, &mut work, |k, mask, t_max| {
-                let i = self.bounded[self.bvh.prims[k] as usize];
-                test_object_bundle(objects, i, rays, mask, t_min, t_max, &mut best, cost);
-            });
-        cost.opened += work.opened;
-        for (n, w) in cost.nodes.iter_mut().zip(work.ray_nodes) {
-            *n += w;
-        }
+        let mut best = [None; BUNDLE];
+        self.closest_bundle_into(objects, rays, t_min, cost, &mut best);
         best
+    }
+
+    /// [`Accel::closest_bundle`], the hits written into `best` (every lane set), which
+    /// saves copying sixteen hit records around.
+    pub fn closest_bundle_into(
+        &self,
+        objects: &[Object],
+        rays: &[Ray],
+        t_min: f64,
+        cost: &mut BundleCost,
+        best: &mut [Option<(usize, LocalHit)>; BUNDLE],
+    ) {
+        *best = [None; BUNDLE];
+        isa::run(SceneClosest {
+            accel: self,
+            objects,
+            rays,
+            t_min,
+            cost,
+            best,
+        })
     }
     // ANCHOR_END: closest_bundle
     /// [`Accel::closest`] under the catalogue's mistakes. `cap-radius` grows caps past the
@@ -384,20 +392,166 @@ impl Accel {
         t_max: &[f64; BUNDLE],
         cost: &mut BundleCost,
     ) -> u32 {
+        isa::run(SceneAny {
+            accel: self,
+            objects,
+            rays,
+            t_min,
+            t_max,
+            cost,
+        })
+    }
+}
+
+/// [`Accel::closest_bundle`]'s work, compiled at each SIMD width ([`isa::run`]).
+struct SceneClosest<'a> {
+    accel: &'a Accel,
+    objects: &'a [Object],
+    rays: &'a [Ray],
+    t_min: f64,
+    cost: &'a mut BundleCost,
+    best: &'a mut [Option<(usize, LocalHit)>; BUNDLE],
+}
+
+impl Kernel for SceneClosest<'_> {
+    type Output = ();
+    #[inline(always)]
+    fn run<W: isa::Wide>(self, w: W) {
+        let SceneClosest {
+            accel,
+            objects,
+            rays,
+            t_min,
+            cost,
+            best,
+        } = self;
+        let all = bundle_mask(rays);
+        let mut t_max = [f64::INFINITY; BUNDLE];
+        for &i in &accel.unbounded {
+            test_object_bundle(objects, i, rays, all, t_min, &mut t_max, best, cost);
+        }
+        if accel.bvh.nodes.is_empty() {
+            return;
+        }
+        let b = RayBundle::new(rays);
+        let mut work = BundleWork::default();
+        let mut leaf = ObjectLeaf {
+            accel,
+            objects,
+            rays,
+            t_min,
+            best,
+            cost,
+        };
+        accel
+            .bvh
+            .closest_bundle(w, &b, all, t_min, &mut t_max, &mut work, &mut leaf);
+        let cost = leaf.cost;
+        cost.opened += work.opened;
+        for (n, w) in cost.nodes.iter_mut().zip(work.ray_nodes) {
+            *n += w;
+        }
+    }
+}
+
+/// The scene's objects as the leaves of a bundle walk.
+struct ObjectLeaf<'a> {
+    accel: &'a Accel,
+    objects: &'a [Object],
+    rays: &'a [Ray],
+    t_min: f64,
+    best: &'a mut [Option<(usize, LocalHit)>; BUNDLE],
+    cost: &'a mut BundleCost,
+}
+
+impl BundleLeaf for ObjectLeaf<'_> {
+    #[inline(always)]
+    fn test(&mut self, k: usize, rays: u32, t_max: &mut [f64; BUNDLE]) {
+        let i = self.accel.bounded[self.accel.bvh.prims[k] as usize];
+        test_object_bundle(
+            self.objects,
+            i,
+            self.rays,
+            rays,
+            self.t_min,
+            t_max,
+            self.best,
+            self.cost,
+        );
+    }
+}
+
+/// [`Accel::occluded_bundle`]'s work, compiled at each SIMD width.
+struct SceneAny<'a> {
+    accel: &'a Accel,
+    objects: &'a [Object],
+    rays: &'a [Ray],
+    t_min: f64,
+    t_max: &'a [f64; BUNDLE],
+    cost: &'a mut BundleCost,
+}
+
+impl Kernel for SceneAny<'_> {
+    type Output = u32;
+    #[inline(always)]
+    fn run<W: isa::Wide>(self, w: W) -> u32 {
+        let SceneAny {
+            accel,
+            objects,
+            rays,
+            t_min,
+            t_max,
+            cost,
+        } = self;
         let all = bundle_mask(rays);
         let mut blocked = 0u32;
-        for &i in &self.unbounded {
+        for &i in &accel.unbounded {
             blocked |= occluded_object_bundle(objects, i, rays, all & !blocked, t_min, t_max, cost);
         }
+        if accel.bvh.nodes.is_empty() {
+            return blocked;
+        }
+        let b = RayBundle::new(rays);
         let mut work = BundleWork::default();
-        blocked |= self
+        let mut leaf = AnyObjectLeaf {
+            accel,
+            objects,
+            rays,
+            t_min,
+            t_max,
+            cost,
+        };
+        blocked |= accel
             .bvh
-            .any_bundle(rays, all & !blocked, t_min, t_max, &mut work, |k, mask| {
-                let i = self.bounded[self.bvh.prims[k] as usize];
-                occluded_object_bundle(objects, i, rays, mask, t_min, t_max, cost)
-            });
-        cost.opened += work.opened;
+            .any_bundle(w, &b, all & !blocked, t_min, t_max, &mut work, &mut leaf);
+        leaf.cost.opened += work.opened;
         blocked
+    }
+}
+
+/// The scene's objects as the leaves of a shadow-ray bundle walk.
+struct AnyObjectLeaf<'a> {
+    accel: &'a Accel,
+    objects: &'a [Object],
+    rays: &'a [Ray],
+    t_min: f64,
+    t_max: &'a [f64; BUNDLE],
+    cost: &'a mut BundleCost,
+}
+
+impl BundleAnyLeaf for AnyObjectLeaf<'_> {
+    #[inline(always)]
+    fn test(&mut self, k: usize, rays: u32) -> u32 {
+        let i = self.accel.bounded[self.accel.bvh.prims[k] as usize];
+        occluded_object_bundle(
+            self.objects,
+            i,
+            self.rays,
+            rays,
+            self.t_min,
+            self.t_max,
+            self.cost,
+        )
     }
 }
 
@@ -417,18 +571,21 @@ fn occluded_object_bundle(
     }
     let object = &objects[i];
     let n = rays.len();
-    let local = to_object(object, rays, mask);
+    let moved;
+    let local = if object.transform.identity {
+        rays
+    } else {
+        moved = to_object(object, rays, mask);
+        &moved[..n]
+    };
     if let crate::shapes::Shape::Mesh(m) = &object.shape {
         let mut work = BundleWork::default();
-        let blocked = m.occluded_bundle(&local[..n], mask, t_min, t_max, &mut work);
+        let blocked = m.occluded_bundle(local, mask, t_min, t_max, &mut work);
         cost.opened += work.opened;
         return blocked;
     }
     let mut blocked = 0;
-    let mut m = mask;
-    while m != 0 {
-        let r = m.trailing_zeros() as usize;
-        m &= m - 1;
+    for r in Bits(mask) {
         let hit = object
             .shape
             .occluded(&local[r], t_min, t_max[r], &mut crate::shapes::NoObserver);
@@ -453,28 +610,32 @@ fn test_object_bundle(
 ) {
     let object = &objects[i];
     let n = rays.len();
-    let local = to_object(object, rays, mask);
-    let hits: [Option<LocalHit>; BUNDLE] = match &object.shape {
+    let moved;
+    let local = if object.transform.identity {
+        rays
+    } else {
+        moved = to_object(object, rays, mask);
+        &moved[..n]
+    };
+    let mut hits: [Option<LocalHit>; BUNDLE] = [None; BUNDLE];
+    match &object.shape {
         crate::shapes::Shape::Mesh(m) => {
             let mut work = BundleWork::default();
-            let h =
-                m.intersect_bundle(&local[..n], mask, t_min, *t_max, &mut work, &mut cost.tests);
+            let (tests, t) = (&mut cost.tests, *t_max);
+            m.intersect_bundle(local, mask, t_min, t, &mut work, tests, &mut hits);
             cost.opened += work.opened;
             for (c, w) in cost.nodes.iter_mut().zip(work.ray_nodes) {
                 *c += w;
             }
-            h
         }
-        shape => std::array::from_fn(|r| {
-            (mask >> r & 1 == 1).then(|| {
-                shape.intersect(&local[r], t_min, t_max[r], &mut crate::shapes::NoObserver)
-            })?
-        }),
-    };
-    let mut m = mask;
-    while m != 0 {
-        let r = m.trailing_zeros() as usize;
-        m &= m - 1;
+        shape => {
+            for r in Bits(mask) {
+                let mut no = crate::shapes::NoObserver;
+                hits[r] = shape.intersect(&local[r], t_min, t_max[r], &mut no);
+            }
+        }
+    }
+    for r in Bits(mask) {
         cost.tests[r] += 1;
         if let Some(h) = hits[r] {
             let key = best[r].as_ref().map(|(o, b)| (b.t, *o));

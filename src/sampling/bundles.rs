@@ -1,7 +1,7 @@
 //! Bundles of camera rays: a tile's camera rays grouped into 4×4 blocks of pixels (one
 //! sample index at a time), each block's rays walking the BVHs together
-//! ([`crate::accel::Accel::closest_bundle`]). Only the closest hits are found this way; the
-//! tracer then shades each sample as usual, from its hit ([`crate::trace::trace_camera`]).
+//! ([`crate::accel::Accel::closest_bundle_into`]). Only the closest hits are found this way;
+//! the tracer then shades each sample as usual, from its hit ([`crate::trace::trace_camera`]).
 
 use super::sampler::planned_films_into;
 use super::tiles::Tile;
@@ -10,7 +10,7 @@ use crate::math::Ray;
 use crate::scene::{RenderSettings, Scene};
 use crate::trace::{camera_ray, CameraRay, Found};
 use arrayvec::ArrayVec;
-use glam::DVec2;
+use glam::{DVec2, DVec3};
 
 /// Side of a bundle's block of pixels (BUNDLE = SIDE²).
 pub const SIDE: u32 = 4;
@@ -30,78 +30,96 @@ impl BundleTally {
     }
 }
 
-/// The camera rays of every sample of a tile, their closest hits already found in bundles
-/// ([`tile_camera_rays`]), kept in one vector: pixel `l`'s samples (in the tile's row-major
-/// order) are `rays[starts[l]..starts[l + 1]]`, by sample index.
-pub struct TileCameras {
-    rays: Vec<Option<CameraRay>>,
-    starts: Vec<u32>,
+/// Where a tile's samples go: the film positions of every sample of the tile, pixel by
+/// pixel in the tile's row-major order; pixel `l`'s are `films[starts[l]..starts[l + 1]]`,
+/// by sample index.
+pub struct TilePlan {
+    pub films: Vec<DVec2>,
+    pub starts: Vec<u32>,
 }
 
-impl TileCameras {
-    /// The camera ray of sample `k` of the tile's pixel `local`, where it lies (tracing
-    /// borrows it: [`crate::trace::trace_camera`]).
-    pub fn get(&mut self, local: usize, k: usize) -> Option<&mut CameraRay> {
-        let i = self.starts[local] as usize + k;
-        if i < self.starts[local + 1] as usize {
-            self.rays[i].as_mut()
-        } else {
-            None
+impl TilePlan {
+    /// The tile's samples, or `None` when they are not known before tracing (the adaptive
+    /// sampler decides from what it sees): those pixels go alone.
+    pub fn new(settings: &RenderSettings, width: u32, height: u32, tile: &Tile) -> Option<Self> {
+        let mut films: Vec<DVec2> = Vec::with_capacity(tile.len());
+        let mut starts: Vec<u32> = Vec::with_capacity(tile.len() + 1);
+        starts.push(0);
+        for (x, y) in tile.pixels() {
+            if !planned_films_into(settings, width, height, x, y, &mut films) {
+                return None;
+            }
+            starts.push(films.len() as u32);
         }
+        Some(TilePlan { films, starts })
+    }
+
+    /// Samples in the tile.
+    pub fn len(&self) -> usize {
+        self.films.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.films.is_empty()
+    }
+
+    /// Samples of the tile's pixel `l`.
+    fn samples_of(&self, l: usize) -> u32 {
+        self.starts[l + 1] - self.starts[l]
     }
 }
 
-/// The camera rays of every sample of `tile`, their closest hits found in bundles: a
-/// [`TileCameras`]. `None` when the samples are not known before tracing (the adaptive
-/// sampler): those rays go alone.
-pub fn tile_camera_rays(
+// ANCHOR: trace_bundled
+/// Traces every sample of `plan` in bundles: per SIDE×SIDE block of the tile's pixels and per
+/// sample index, the block's camera rays are made, walked to their closest hits together
+/// ([`crate::accel::Accel::closest_bundle_into`]), and handed one by one, hit found, to
+/// `trace(l, k, camera)` (the tile's pixel `l`, its sample `k`), which shades them with the
+/// one tracer. `block_done(pixels)` follows each block; a cancelled render
+/// (`settings.cancel`) stops before the next block.
+pub fn trace_bundled(
     scene: &Scene,
     settings: &RenderSettings,
     tile: &Tile,
+    plan: &TilePlan,
     tally: &mut BundleTally,
-) -> Option<TileCameras> {
-    let (w, h) = (scene.camera.width, scene.camera.height);
-    let mut films: Vec<DVec2> = Vec::with_capacity(tile.len());
-    let mut starts: Vec<u32> = Vec::with_capacity(tile.len() + 1);
-    starts.push(0);
-    for (x, y) in tile.pixels() {
-        if !planned_films_into(settings, w, h, x, y, &mut films) {
-            return None;
-        }
-        starts.push(films.len() as u32);
-    }
-    let mut rays: Vec<Option<CameraRay>> = (0..films.len()).map(|_| None).collect();
+    mut trace: impl FnMut(usize, u32, &mut CameraRay),
+    mut block_done: impl FnMut(u64),
+) {
     let tile_w = tile.x.len() as u32;
-    let most = (0..tile.len())
-        .map(|l| starts[l + 1] - starts[l])
-        .max()
-        .unwrap_or(0);
-    // Per block of SIDE×SIDE pixels and per sample index: one bundle.
-    let mut slots: ArrayVec<usize, BUNDLE> = ArrayVec::new();
-    let mut samples: ArrayVec<(u32, u32, u32, DVec2), BUNDLE> = ArrayVec::new();
+    let mut cams: ArrayVec<CameraRay, BUNDLE> = ArrayVec::new();
+    let mut pixels: ArrayVec<usize, BUNDLE> = ArrayVec::new();
     for by in (tile.y.start..tile.y.end).step_by(SIDE as usize) {
         for bx in (tile.x.start..tile.x.end).step_by(SIDE as usize) {
-            for k in 0..most {
-                slots.clear();
-                samples.clear();
-                for y in by..(by + SIDE).min(tile.y.end) {
-                    for x in bx..(bx + SIDE).min(tile.x.end) {
-                        let local = ((y - tile.y.start) * tile_w + (x - tile.x.start)) as usize;
-                        let i = starts[local] + k;
-                        if i < starts[local + 1] {
-                            slots.push(i as usize);
-                            samples.push((x, y, k, films[i as usize]));
-                        }
-                    }
-                }
-                bundle_into(scene, settings, &samples, tally, |j, cam| {
-                    rays[slots[j]] = Some(cam);
-                });
+            if settings.cancel.is_cancelled() {
+                return;
             }
+            let block = |k: u32| {
+                let ys = by..(by + SIDE).min(tile.y.end);
+                ys.flat_map(move |y| (bx..(bx + SIDE).min(tile.x.end)).map(move |x| (x, y)))
+                    .map(move |(x, y)| {
+                        let l = ((y - tile.y.start) * tile_w + (x - tile.x.start)) as usize;
+                        (x, y, l, k)
+                    })
+            };
+            let most = block(0).map(|(.., l, _)| plan.samples_of(l)).max();
+            for k in 0..most.unwrap_or(0) {
+                cams.clear();
+                pixels.clear();
+                for (x, y, l, k) in block(k).filter(|&(.., l, k)| k < plan.samples_of(l)) {
+                    let film = plan.films[(plan.starts[l] + k) as usize];
+                    cams.push(camera_ray(scene, settings, x, y, k, film));
+                    pixels.push(l);
+                }
+                find_hits(scene, &mut cams, tally);
+                for (cam, &l) in cams.iter_mut().zip(&pixels) {
+                    trace(l, k, cam);
+                }
+            }
+            block_done(block(0).count() as u64);
         }
     }
-    Some(TileCameras { rays, starts })
 }
+// ANCHOR_END: trace_bundled
 
 /// The camera rays of `samples` (pixel x, y, sample index, film), each run of [`BUNDLE`]
 /// consecutive ones traced together to their closest hits: callers list neighbours next
@@ -138,19 +156,35 @@ fn bundle_into(
     for &(x, y, k, film) in samples {
         cams.push(camera_ray(scene, settings, x, y, k, film));
     }
-    let rays: ArrayVec<Ray, BUNDLE> = cams.iter().map(|c| c.ray).collect();
+    find_hits(scene, &mut cams, tally);
+    for (j, cam) in cams.into_iter().enumerate() {
+        put(j, cam);
+    }
+}
+
+/// Walks up to [`BUNDLE`] camera rays to their closest hits together, and gives each its
+/// hit and its share of the work ([`Found`]).
+fn find_hits(scene: &Scene, cams: &mut [CameraRay], tally: &mut BundleTally) {
+    let n = cams.len();
+    if n == 0 {
+        return;
+    }
+    let mut rays = [Ray::new(DVec3::ZERO, DVec3::Z); BUNDLE];
+    for (ray, cam) in rays.iter_mut().zip(&*cams) {
+        *ray = cam.ray;
+    }
     let mut cost = BundleCost::default();
-    let hits = scene
+    let mut hits = [None; BUNDLE];
+    scene
         .accel
-        .closest_bundle(&scene.objects, &rays, 0.0, &mut cost);
+        .closest_bundle_into(&scene.objects, &rays[..n], 0.0, &mut cost, &mut hits);
     tally.bundles += 1;
     tally.opened += cost.opened as u64;
-    for (j, mut cam) in cams.into_iter().enumerate() {
+    for (j, cam) in cams.iter_mut().enumerate() {
         cam.found = Some(Found {
             hit: hits[j],
             tests: cost.tests[j],
             nodes: cost.nodes[j],
         });
-        put(j, cam);
     }
 }

@@ -1,7 +1,7 @@
 //! The render: tiles traced in parallel, sample by sample through the one tracer, then
 //! reconstructed into the image; and what the render holds in memory.
 
-use super::bundles::{tile_camera_rays, BundleTally};
+use super::bundles::{trace_bundled, BundleTally, TilePlan};
 use super::image::Image;
 use super::reconstruct::reconstruct_color;
 use super::sampler::sample_pixel_into;
@@ -9,7 +9,9 @@ use super::tiles::{row_major_order, tiles};
 use super::{Filter, PixelSample};
 use crate::accel::Traversal;
 use crate::scene::{RenderSettings, Scene};
-use crate::trace::{camera_ray, trace_camera, Counter, NoRecorder, RayCounts, Recorder};
+use crate::trace::{
+    camera_ray, trace_camera, Counter, NoRecorder, RayCounts, Recorder, SampleResult,
+};
 use glam::DVec3;
 use rayon::prelude::*;
 use std::time::Instant;
@@ -140,54 +142,78 @@ fn render_with<R: Tally>(
                 return Default::default();
             }
             let mut tally = BundleTally::default();
-            // Bundles: every camera ray of the tile, its closest hit already found.
-            let mut cameras = bundled
-                .then(|| tile_camera_rays(scene, settings, tile, &mut tally))
-                .flatten();
-            let mut samples = Vec::with_capacity(tile.len() * (settings.spp as usize).min(16));
-            let mut ends = Vec::with_capacity(tile.len());
             // Filled only when counting (`--stats`): a render without it touches no memory
             // for counts (it was 64 bytes a pixel, a tenth of its trace time in page faults).
             // With it, 16 bytes a pixel (its tests and nodes) and the tile's ray counts.
             let mut stats = Vec::with_capacity(if R::COUNTS { tile.len() } else { 0 });
             let mut tile_rays = RayCounts::default();
-            let mut nan = None;
-            let mut cut = (0, None);
-            for (local, (x, y)) in tile.pixels().enumerate() {
-                if settings.cancel.is_cancelled() {
-                    // Ctrl-C or a cancelled token: skip the rest; the caller writes nothing.
-                    break;
-                }
-                let mut rec = R::default();
-                sample_pixel_into(settings, w, h, x, y, &mut samples, |k, film| {
-                    let mut own = None;
-                    let camera = match cameras.as_mut().and_then(|c| c.get(local, k as usize)) {
-                        Some(bundled) => bundled,
-                        None => own.insert(camera_ray(scene, settings, x, y, k, film)),
-                    };
-                    debug_assert_eq!(camera.generation.film, film);
-                    let r = trace_camera(scene, settings, camera, &mut rec);
-                    if r.cut {
-                        cut.0 += 1;
-                        cut.1.get_or_insert((x, y, k));
-                    }
-                    if r.color.is_finite() {
-                        r.color
-                    } else {
-                        nan.get_or_insert((x, y, k));
-                        DVec3::ZERO
-                    }
-                });
-                ends.push(samples.len() as u32);
+            let mut firsts = Firsts::default();
+            let mut tally_pixel = |rec: R| {
                 if let Some((rays, tests, nodes)) = rec.into_stats() {
                     tile_rays.add(&rays);
                     stats.push([tests, nodes]);
                 }
-                // Pixel by pixel, so the bar moves while a slow tile is still being traced.
-                if let Some(p) = progress {
-                    p.inc(1);
+            };
+            // Bundles: the tile's samples planned, traced block by block.
+            let plan = bundled
+                .then(|| TilePlan::new(settings, w, h, tile))
+                .flatten();
+            let (samples, ends) = if let Some(plan) = plan {
+                let mut samples = vec![PixelSample::UNTRACED; plan.len()];
+                let mut recs: Vec<R> = (0..tile.len()).map(|_| R::default()).collect();
+                let tw = tile.x.len() as u32;
+                trace_bundled(
+                    scene,
+                    settings,
+                    tile,
+                    &plan,
+                    &mut tally,
+                    |l, k, camera| {
+                        let (x, y) = (tile.x.start + l as u32 % tw, tile.y.start + l as u32 / tw);
+                        let r = trace_camera(scene, settings, camera, &mut recs[l]);
+                        samples[(plan.starts[l] + k) as usize] = PixelSample {
+                            index: k,
+                            film: r.film,
+                            area: 1.0,
+                            color: firsts.note(&r, (x, y, k)),
+                        };
+                    },
+                    |pixels| {
+                        if let Some(p) = progress {
+                            p.inc(pixels);
+                        }
+                    },
+                );
+                if !settings.cancel.is_cancelled() {
+                    recs.into_iter().for_each(&mut tally_pixel);
                 }
-            }
+                (samples, plan.starts[1..].to_vec())
+            } else {
+                let mut samples = Vec::with_capacity(tile.len() * (settings.spp as usize).min(16));
+                let mut ends = Vec::with_capacity(tile.len());
+                for (x, y) in tile.pixels() {
+                    if settings.cancel.is_cancelled() {
+                        // Ctrl-C or a cancelled token: skip the rest; the caller writes nothing.
+                        break;
+                    }
+                    let mut rec = R::default();
+                    sample_pixel_into(settings, w, h, x, y, &mut samples, |k, film| {
+                        let mut camera = camera_ray(scene, settings, x, y, k, film);
+                        firsts.note(
+                            &trace_camera(scene, settings, &mut camera, &mut rec),
+                            (x, y, k),
+                        )
+                    });
+                    ends.push(samples.len() as u32);
+                    tally_pixel(rec);
+                    // Pixel by pixel, so the bar moves while a slow tile is still being traced.
+                    if let Some(p) = progress {
+                        p.inc(1);
+                    }
+                }
+                (samples, ends)
+            };
+            let Firsts { nan, cut } = firsts;
             ((samples, ends), (stats, tile_rays), nan, cut, tally)
         })
         .collect();
@@ -278,6 +304,41 @@ fn render_with<R: Tally>(
         first_cut,
         cancelled: false,
     })
+}
+
+/// What a tile remembers of its samples besides their colours: the first (in row-major order
+/// of pixels, then by sample index) whose colour was not finite, and the samples whose tree
+/// the ray budget cut (how many, and the first).
+#[derive(Default)]
+struct Firsts {
+    nan: Option<(u32, u32, u32)>,
+    cut: (u64, Option<(u32, u32, u32)>),
+}
+
+impl Firsts {
+    /// Notes sample (x, y, k)'s result and returns its colour for the film: black when it
+    /// was not finite.
+    fn note(&mut self, r: &SampleResult, (x, y, k): (u32, u32, u32)) -> DVec3 {
+        let first = |old: Option<(u32, u32, u32)>| {
+            Some(old.map_or((x, y, k), |o| {
+                if (y, x, k) < (o.1, o.0, o.2) {
+                    (x, y, k)
+                } else {
+                    o
+                }
+            }))
+        };
+        if r.cut {
+            self.cut.0 += 1;
+            self.cut.1 = first(self.cut.1);
+        }
+        if r.color.is_finite() {
+            r.color
+        } else {
+            self.nan = first(self.nan);
+            DVec3::ZERO
+        }
+    }
 }
 
 /// Bytes a render of `width`×`height` at `spp` samples per pixel holds at its peak: every

@@ -50,6 +50,16 @@ pub struct PixelSample {
     pub color: DVec3,
 }
 
+impl PixelSample {
+    /// A placeholder for a sample not traced yet.
+    pub const UNTRACED: PixelSample = PixelSample {
+        index: 0,
+        film: DVec2::ZERO,
+        area: 1.0,
+        color: DVec3::ZERO,
+    };
+}
+
 /// The centre of pixel (x, y) on the film: the centre sampler's one sample.
 fn centre(x: u32, y: u32) -> DVec2 {
     DVec2::new(x as f64, y as f64) + DVec2::splat(0.5)

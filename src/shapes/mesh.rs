@@ -1,6 +1,9 @@
 use super::triangle::interpolated_hit;
-use super::{cramer_hit_prepared, Aabb, Barycentric, LocalHit, Observer, Prepared, Triangle};
-use crate::accel::{BundleWork, Bvh, BUNDLE};
+use super::{
+    cramer_hit_prepared, Aabb, Barycentric, FaceFrom, LocalHit, Observer, Prepared, Triangle,
+};
+use crate::accel::isa::{self, Kernel, Wide};
+use crate::accel::{count, Bits, BundleAnyLeaf, BundleLeaf, BundleWork, Bvh, RayBundle, BUNDLE};
 use crate::math::Ray;
 use glam::{DVec2, DVec3};
 
@@ -202,10 +205,11 @@ impl Mesh {
 
     // ANCHOR: mesh_bundle
     /// Closest face hits of a bundle of object-space rays (bit i of `active`: ray i takes
-    /// part), each within [t_min, t_max[i]]: what [`Mesh::intersect`] gives each ray, found
+    /// part, and `hits[i]` is set), each within [t_min, t_max[i]]: what [`Mesh::intersect`] gives each ray, found
     /// by one walk of the BVH for all of them ([`Bvh::closest_bundle`]). A face reached by
     /// several rays is prepared once and tested against each, exactly as a single ray tests
     /// it. `work` gets the nodes; `tests[i]` the faces ray i tested.
+    #[allow(clippy::too_many_arguments)]
     pub fn intersect_bundle(
         &self,
         rays: &[Ray],
@@ -214,53 +218,36 @@ impl Mesh {
         t_max: [f64; BUNDLE],
         work: &mut BundleWork,
         tests: &mut [u32; BUNDLE],
-    ) -> [Option<LocalHit>; BUNDLE] {
-        self.intersect_bundle_seen(rays, active, t_min, t_max, work, tests, |_, _, _| {})
+        hits: &mut [Option<LocalHit>; BUNDLE],
+    ) {
+        self.intersect_bundle_seen(rays, active, t_min, t_max, work, tests, hits, |_, _, _| {})
     }
     // ANCHOR_END: mesh_bundle
 
     /// [`Mesh::intersect_bundle`], telling `seen` which children of each opened node the
-    /// bundle entered ([`Bvh::closest_bundle_seen`]; for the bundle figure).
+    /// bundle entered ([`crate::accel::BundleLeaf::seen`]; for the bundle figure).
     #[allow(clippy::too_many_arguments)]
     pub fn intersect_bundle_seen(
         &self,
         rays: &[Ray],
         active: u32,
         t_min: f64,
-        mut t_max: [f64; BUNDLE],
+        t_max: [f64; BUNDLE],
         work: &mut BundleWork,
         tests: &mut [u32; BUNDLE],
+        hits: &mut [Option<LocalHit>; BUNDLE],
         seen: impl FnMut(usize, usize, u32),
-    ) -> [Option<LocalHit>; BUNDLE] {
-        let mut best: [Option<(usize, Barycentric)>; BUNDLE] = [None; BUNDLE];
-        self.bvh.closest_bundle_seen(
+    ) {
+        isa::run(ClosestFaces {
+            mesh: self,
             rays,
             active,
             t_min,
-            &mut t_max,
+            t_max,
             work,
-            |k, mask, t_max| {
-                let p = self.packed[k].prepared();
-                let mut m = mask;
-                while m != 0 {
-                    let i = m.trailing_zeros() as usize;
-                    m &= m - 1;
-                    tests[i] += 1;
-                    if let Some(b) = cramer_hit_prepared(&p, &rays[i], t_min, t_max[i]) {
-                        let lower = best[i].as_ref().is_none_or(|(bk, _)| k < *bk);
-                        if b.t < t_max[i] || lower {
-                            t_max[i] = b.t;
-                            best[i] = Some((k, b));
-                        }
-                    }
-                }
-            },
+            tests,
+            hits,
             seen,
-        );
-        std::array::from_fn(|i| {
-            best[i]
-                .as_ref()
-                .map(|(k, b)| self.local_hit(&rays[i], b, *k))
         })
     }
 
@@ -276,20 +263,14 @@ impl Mesh {
         t_max: &[f64; BUNDLE],
         work: &mut BundleWork,
     ) -> u32 {
-        self.bvh
-            .any_bundle(rays, active, t_min, t_max, work, |k, mask| {
-                let p = self.packed[k].prepared();
-                let mut blocked = 0;
-                let mut m = mask;
-                while m != 0 {
-                    let i = m.trailing_zeros() as usize;
-                    m &= m - 1;
-                    if cramer_hit_prepared(&p, &rays[i], t_min, t_max[i]).is_some() {
-                        blocked |= 1 << i;
-                    }
-                }
-                blocked
-            })
+        isa::run(AnyFace {
+            mesh: self,
+            rays,
+            active,
+            t_min,
+            t_max,
+            work,
+        })
     }
 
     /// Any face hit within [t_min, t_max] (shadow rays): the first one found, not the
@@ -354,5 +335,220 @@ impl Mesh {
             }
         }
         !edges.is_empty() && edges.values().all(|&n| n == 2)
+    }
+}
+
+// ANCHOR: face_leaf
+/// A mesh's faces as the leaves of a bundle walk. Each face a leaf holds is prepared once
+/// for the rays that reached it; when they share their origin (a pinhole camera's rays),
+/// the part of Cramer's rule that depends only on the face and the origin ([`FaceFrom`]) is
+/// computed once too, and each ray adds three dot products, in one pass over the lanes when
+/// enough rays are there to fill them.
+struct Faces<'a, 'r, W> {
+    w: W,
+    mesh: &'a Mesh,
+    b: &'a RayBundle<'r>,
+    t_min: f64,
+}
+
+impl<W: Wide> Faces<'_, '_, W> {
+    /// Calls `hit(i, weights, t_max)` for each ray i in `rays` that hits face slot `k`
+    /// within [t_min, t_max[i]]: exactly what [`cramer_hit_prepared`] says for that ray.
+    #[inline(always)]
+    fn hits(
+        &self,
+        k: usize,
+        rays: u32,
+        t_max: &mut [f64; BUNDLE],
+        mut hit: impl FnMut(usize, Barycentric, &mut [f64; BUNDLE]),
+    ) {
+        let p = self.mesh.packed[k].prepared();
+        let b = self.b;
+        if !b.shared_origin {
+            for i in Bits(rays) {
+                if let Some(w) = cramer_hit_prepared(&p, &b.rays[i], self.t_min, t_max[i]) {
+                    hit(i, w, t_max);
+                }
+            }
+            return;
+        }
+        let face = FaceFrom::new(&p, b.rays[0].origin);
+        let m = |i: usize| -DVec3::new(b.dir[0].0[i], b.dir[1].0[i], b.dir[2].0[i]);
+        let inside = if rays.count_ones() >= W::LEVEL.lanes_from() {
+            self.inside_lanes(&face) & rays
+        } else {
+            let mut some = 0;
+            for i in Bits(rays) {
+                some |= (face.numerators(m(i)).inside() as u32) << i;
+            }
+            some
+        };
+        for i in Bits(inside) {
+            if let Some(w) = face.solve(&face.numerators(m(i)), self.t_min, t_max[i]) {
+                hit(i, w, t_max);
+            }
+        }
+    }
+
+    /// [`Numerators::inside`] for all sixteen rays at once: the same products and sums in
+    /// the same order as [`FaceFrom::numerators`] (the dot products of glam's `DVec3`), lane
+    /// by lane.
+    #[inline(always)]
+    fn inside_lanes(&self, face: &FaceFrom) -> u32 {
+        let (w, b) = (self.w, self.b);
+        let m = [
+            w.neg_d(w.load_d(&b.dir[0])),
+            w.neg_d(w.load_d(&b.dir[1])),
+            w.neg_d(w.load_d(&b.dir[2])),
+        ];
+        let det = dot_lanes(w, &m, face.n);
+        let beta = dot_lanes(w, &m, face.s_x_e2);
+        let gamma = dot_lanes(w, &m, face.e1_x_s);
+        let zero = w.splat_d(0.0);
+        let (inf, minus_inf) = (w.splat_d(f64::INFINITY), w.splat_d(f64::NEG_INFINITY));
+        let positive = w.lt_d(zero, det) & w.lt_d(det, inf);
+        let negative = w.lt_d(det, zero) & w.lt_d(minus_inf, det);
+        (positive & w.le_d(zero, beta) & w.le_d(zero, gamma))
+            | (negative & w.le_d(beta, zero) & w.le_d(gamma, zero))
+    }
+}
+
+/// m · v for the sixteen directions `m` (lane by lane) and one vector: glam's `DVec3::dot`,
+/// (m.x·v.x + m.y·v.y) + m.z·v.z.
+#[inline(always)]
+fn dot_lanes<W: Wide>(w: W, m: &[W::D; 3], v: DVec3) -> W::D {
+    let xy = w.add_d(w.mul_d(m[0], w.splat_d(v.x)), w.mul_d(m[1], w.splat_d(v.y)));
+    w.add_d(xy, w.mul_d(m[2], w.splat_d(v.z)))
+}
+
+/// The closest-hit leaves: each ray's best face so far (closest t, then lowest slot, as
+/// [`Mesh::intersect`] breaks ties).
+struct ClosestLeaf<'a, 'r, W, S> {
+    faces: Faces<'a, 'r, W>,
+    best: [Option<(usize, Barycentric)>; BUNDLE],
+    tests: &'a mut [u32; BUNDLE],
+    seen: S,
+}
+
+impl<W: Wide, S: FnMut(usize, usize, u32)> BundleLeaf for ClosestLeaf<'_, '_, W, S> {
+    #[inline(always)]
+    fn test(&mut self, k: usize, rays: u32, t_max: &mut [f64; BUNDLE]) {
+        count(self.tests, rays);
+        let best = &mut self.best;
+        self.faces.hits(k, rays, t_max, |i, w, t_max| {
+            let lower = best[i].as_ref().is_none_or(|(bk, _)| k < *bk);
+            if w.t < t_max[i] || lower {
+                t_max[i] = w.t;
+                best[i] = Some((k, w));
+            }
+        });
+    }
+
+    const SEES: bool = true;
+    #[inline(always)]
+    fn seen(&mut self, node: usize, lane: usize, rays: u32) {
+        (self.seen)(node, lane, rays)
+    }
+}
+
+/// The any-hit leaves: a face blocks the rays it hits.
+struct AnyLeaf<'a, 'r, W> {
+    faces: Faces<'a, 'r, W>,
+    /// The rays' t_max (a copy: `hits` may lower it, an any-hit never does).
+    t_max: [f64; BUNDLE],
+}
+
+impl<W: Wide> BundleAnyLeaf for AnyLeaf<'_, '_, W> {
+    #[inline(always)]
+    fn test(&mut self, k: usize, rays: u32) -> u32 {
+        let mut blocked = 0;
+        self.faces
+            .hits(k, rays, &mut self.t_max, |i, _, _| blocked |= 1 << i);
+        blocked
+    }
+}
+// ANCHOR_END: face_leaf
+
+/// [`Mesh::intersect_bundle_seen`]'s work, compiled at each SIMD width ([`isa::run`]).
+struct ClosestFaces<'a, 'r, S> {
+    mesh: &'a Mesh,
+    rays: &'r [Ray],
+    active: u32,
+    t_min: f64,
+    t_max: [f64; BUNDLE],
+    work: &'a mut BundleWork,
+    tests: &'a mut [u32; BUNDLE],
+    hits: &'a mut [Option<LocalHit>; BUNDLE],
+    seen: S,
+}
+
+impl<S: FnMut(usize, usize, u32)> Kernel for ClosestFaces<'_, '_, S> {
+    type Output = ();
+    #[inline(always)]
+    fn run<W: Wide>(self, w: W) {
+        let ClosestFaces {
+            mesh,
+            rays,
+            active,
+            t_min,
+            mut t_max,
+            work,
+            tests,
+            hits,
+            seen,
+        } = self;
+        let b = RayBundle::new(rays);
+        let mut leaf = ClosestLeaf {
+            faces: Faces {
+                w,
+                mesh,
+                b: &b,
+                t_min,
+            },
+            best: [None; BUNDLE],
+            tests,
+            seen,
+        };
+        mesh.bvh
+            .closest_bundle(w, &b, active, t_min, &mut t_max, work, &mut leaf);
+        for i in Bits(active & b.all) {
+            hits[i] = leaf.best[i].map(|(k, w)| mesh.local_hit(&rays[i], &w, k));
+        }
+    }
+}
+
+/// [`Mesh::occluded_bundle`]'s work, compiled at each SIMD width.
+struct AnyFace<'a, 'r> {
+    mesh: &'a Mesh,
+    rays: &'r [Ray],
+    active: u32,
+    t_min: f64,
+    t_max: &'a [f64; BUNDLE],
+    work: &'a mut BundleWork,
+}
+
+impl Kernel for AnyFace<'_, '_> {
+    type Output = u32;
+    #[inline(always)]
+    fn run<W: Wide>(self, w: W) -> u32 {
+        let b = RayBundle::new(self.rays);
+        let mut leaf = AnyLeaf {
+            faces: Faces {
+                w,
+                mesh: self.mesh,
+                b: &b,
+                t_min: self.t_min,
+            },
+            t_max: *self.t_max,
+        };
+        self.mesh.bvh.any_bundle(
+            w,
+            &b,
+            self.active,
+            self.t_min,
+            self.t_max,
+            self.work,
+            &mut leaf,
+        )
     }
 }

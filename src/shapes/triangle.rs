@@ -256,42 +256,103 @@ pub fn cramer_hit(v: &[DVec3; 3], ray: &Ray, t_min: f64, t_max: f64) -> Option<B
 /// for speed, because most faces a ray is tested against are missed: first the signs of
 /// β and γ, read off their numerators without dividing (β = num/det ≥ 0 exactly when num
 /// and det do not have opposite signs), then t, then the divisions.
-// `!(x >= 0.0)` on purpose: a NaN must fail the test, as it fails `x >= 0.0` in `cramer_hit`.
-#[allow(clippy::neg_cmp_op_on_partial_ord)]
 #[inline(always)]
 pub fn cramer_hit_prepared(p: &Prepared, ray: &Ray, t_min: f64, t_max: f64) -> Option<Barycentric> {
-    let s = ray.origin - p.a;
+    let face = FaceFrom::new(p, ray.origin);
     let m = -ray.dir;
-    let n = p.e1.cross(p.e2);
-    let determinant = m.dot(n);
-    let beta_num = m.dot(s.cross(p.e2));
-    let gamma_num = m.dot(p.e1.cross(s));
-    // `num / det >= 0` without dividing, for β and γ at once, with `&` and `|` rather than
-    // `&&` and `||`: one branch instead of four data-dependent ones (a zero or non-finite
-    // determinant fails both sign tests).
-    let positive = (determinant > 0.0) & (determinant < f64::INFINITY);
-    let negative = (determinant < 0.0) & (determinant > f64::NEG_INFINITY);
-    let inside = (positive & (beta_num >= 0.0) & (gamma_num >= 0.0))
-        | (negative & (beta_num <= 0.0) & (gamma_num <= 0.0));
-    if !inside {
+    let nums = face.numerators(m);
+    if !nums.inside() {
         return None;
     }
-    let t = s.dot(n) / determinant;
-    if !(t >= t_min && t <= t_max) {
-        return None;
-    }
-    let (beta, gamma) = (beta_num / determinant, gamma_num / determinant);
-    if !(beta >= 0.0 && gamma >= 0.0 && beta + gamma <= 1.0) {
-        return None;
-    }
-    Some(Barycentric {
-        alpha: 1.0 - beta - gamma,
-        beta,
-        gamma,
-        determinant,
-        t,
-    })
+    face.solve(&nums, t_min, t_max)
 }
+
+// ANCHOR: face_from
+/// A face seen from one ray origin P: what Cramer's rule needs that does not depend on the
+/// direction. With s = P − a and m = −d, the three determinants are m·(e1 × e2),
+/// m·(s × e2) and m·(e1 × s), and t's numerator is s·(e1 × e2): every cross product
+/// involves only the face and P. Rays that share an origin (a pinhole camera's) share this
+/// part, so a bundle of them computes it once per face and each ray adds three dot
+/// products ([`FaceFrom::numerators`]); a single ray computes both halves, in the same
+/// order, so the bits are the same either way.
+#[derive(Debug, Clone, Copy)]
+pub struct FaceFrom {
+    /// s = P − a.
+    pub s: DVec3,
+    /// The normal e1 × e2.
+    pub n: DVec3,
+    pub s_x_e2: DVec3,
+    pub e1_x_s: DVec3,
+}
+
+/// The numerators of β and γ over det for one direction (m = −d).
+#[derive(Debug, Clone, Copy)]
+pub struct Numerators {
+    pub determinant: f64,
+    pub beta: f64,
+    pub gamma: f64,
+}
+
+impl FaceFrom {
+    #[inline(always)]
+    pub fn new(p: &Prepared, origin: DVec3) -> FaceFrom {
+        let s = origin - p.a;
+        FaceFrom {
+            s,
+            n: p.e1.cross(p.e2),
+            s_x_e2: s.cross(p.e2),
+            e1_x_s: p.e1.cross(s),
+        }
+    }
+
+    /// det[e1 e2 −d], det[s e2 −d], det[e1 s −d] for m = −d.
+    #[inline(always)]
+    pub fn numerators(&self, m: DVec3) -> Numerators {
+        Numerators {
+            determinant: m.dot(self.n),
+            beta: m.dot(self.s_x_e2),
+            gamma: m.dot(self.e1_x_s),
+        }
+    }
+
+    /// The solution once the point is inside: t in [t_min, t_max] and the weights, or None.
+    // `!(x >= 0.0)` on purpose: a NaN must fail the test, as it fails `x >= 0.0` in `cramer_hit`.
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
+    #[inline(always)]
+    pub fn solve(&self, nums: &Numerators, t_min: f64, t_max: f64) -> Option<Barycentric> {
+        let determinant = nums.determinant;
+        let t = self.s.dot(self.n) / determinant;
+        if !(t >= t_min && t <= t_max) {
+            return None;
+        }
+        let (beta, gamma) = (nums.beta / determinant, nums.gamma / determinant);
+        if !(beta >= 0.0 && gamma >= 0.0 && beta + gamma <= 1.0) {
+            return None;
+        }
+        Some(Barycentric {
+            alpha: 1.0 - beta - gamma,
+            beta,
+            gamma,
+            determinant,
+            t,
+        })
+    }
+}
+
+impl Numerators {
+    /// β ≥ 0 and γ ≥ 0, read off the numerators' signs against the determinant's without
+    /// dividing, with `&` and `|` rather than `&&` and `||`: one branch instead of four
+    /// data-dependent ones (a zero or non-finite determinant fails both sign tests).
+    #[inline(always)]
+    pub fn inside(&self) -> bool {
+        let d = self.determinant;
+        let positive = (d > 0.0) & (d < f64::INFINITY);
+        let negative = (d < 0.0) & (d > f64::NEG_INFINITY);
+        (positive & (self.beta >= 0.0) & (self.gamma >= 0.0))
+            | (negative & (self.beta <= 0.0) & (self.gamma <= 0.0))
+    }
+}
+// ANCHOR_END: face_from
 
 /// A triangle ready for repeated ray tests: corner a and the edges e1 = b − a, e2 = c − a,
 /// in f64 (72 bytes). Computing the edges once changes no bit of any result. (Storing

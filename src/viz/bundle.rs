@@ -44,13 +44,15 @@ pub fn draw(scene: &Scene, x: u32, y: u32) -> Result<Canvas, String> {
     let mut tested: Vec<(usize, usize, u32)> = Vec::new();
     let mut work = BundleWork::default();
     let mut tests = [0u32; BUNDLE];
-    let hits = mesh.intersect_bundle_seen(
+    let mut hits = [None; BUNDLE];
+    mesh.intersect_bundle_seen(
         &rays,
         (1u32 << n) - 1,
         0.0,
         [f64::INFINITY; BUNDLE],
         &mut work,
         &mut tests,
+        &mut hits,
         |node, lane, mask| tested.push((node, lane, mask)),
     );
     // Depth of each node (root 0), from the tree itself.

@@ -16,8 +16,7 @@ mod slab;
 #[cfg(test)]
 mod tests;
 
-pub(super) use slab::RayBox;
-pub(super) use slab::{down, up};
+pub(super) use slab::{bracket, down, up, RayBox, GROW, SHRINK};
 
 use crate::math::Ray;
 use crate::shapes::Aabb;
@@ -125,23 +124,35 @@ impl Bvh {
         &self,
         ray: &Ray,
         t_min: f64,
+        t_max: f64,
+        visited: &mut u32,
+        test: impl FnMut(usize, f64) -> Option<(f64, T)>,
+    ) -> Option<(usize, T)> {
+        if self.nodes.is_empty() {
+            return None;
+        }
+        let r = RayBox::new(ray);
+        self.closest_from::<SIGNED, T>(&r, Pending::ROOT, t_min, t_max, visited, test)
+    }
+
+    /// The closest-hit walk of one ray from `start` (the root, or a child a bundle handed
+    /// over: [`super::bundle`]).
+    #[inline(always)]
+    pub(super) fn closest_from<const SIGNED: bool, T>(
+        &self,
+        r: &RayBox,
+        start: Pending,
+        t_min: f64,
         mut t_max: f64,
         visited: &mut u32,
-        mut test: impl FnMut(usize, f64) -> Option<(f64, T)>,
+        mut test: impl Visit<T>,
     ) -> Option<(usize, T)> {
-        let root = self.nodes.first()?;
-        let r = RayBox::new(ray);
         let (t_min32, mut t_max32) = (down(t_min), up(t_max));
-        *visited += 1;
-        let (mask, near) = root.enter::<SIGNED>(&r, t_min32, t_max32);
-        if mask == 0 {
-            return None; // most rays of a typical image: no stack to set up
-        }
         let mut best = None;
         let mut stack = ArrayVec::<Pending, STACK>::new();
         // The nearest child the ray enters is opened next without going through the stack;
         // only its siblings wait there.
-        let mut next = nearest_pushing_rest(&mut stack, root, mask, &near);
+        let mut next = start;
         loop {
             let Pending {
                 t_enter,
@@ -154,14 +165,14 @@ impl Bvh {
                 if count == 0 {
                     *visited += 1;
                     let node = &self.nodes[child];
-                    let (mask, near) = node.enter::<SIGNED>(&r, t_min32, t_max32);
+                    let (mask, near) = node.enter::<SIGNED>(r, t_min32, t_max32);
                     if mask != 0 {
                         next = nearest_pushing_rest(&mut stack, node, mask, &near);
                         continue;
                     }
                 } else {
                     for k in child..child + count as usize {
-                        if let Some((t, data)) = test(k, t_max) {
+                        if let Some((t, data)) = test.test(k, t_max) {
                             t_max = t;
                             t_max32 = up(t);
                             best = Some((k, data));
@@ -213,26 +224,44 @@ impl Bvh {
         t_min: f64,
         t_max: f64,
         visited: &mut u32,
-        mut test: impl FnMut(usize) -> bool,
+        test: impl FnMut(usize) -> bool,
     ) -> Option<usize> {
         if self.nodes.is_empty() {
             return None;
         }
         let r = RayBox::new(ray);
+        self.any_from::<SIGNED>(&r, Pending::ROOT, t_min, t_max, visited, test)
+    }
+
+    /// The any-hit walk of one ray from `start` (the root, or a child a bundle handed over).
+    #[inline(always)]
+    pub(super) fn any_from<const SIGNED: bool>(
+        &self,
+        r: &RayBox,
+        start: Pending,
+        t_min: f64,
+        t_max: f64,
+        visited: &mut u32,
+        mut test: impl VisitAny,
+    ) -> Option<usize> {
         let (t_min32, t_max32) = (down(t_min), up(t_max));
+        if start.count != 0 {
+            let first = start.child as usize;
+            return (first..first + start.count as usize).find(|&k| test.blocks(k));
+        }
         let mut stack = ArrayVec::<u32, STACK>::new();
-        let mut node = 0usize;
+        let mut node = start.child as usize;
         loop {
             *visited += 1;
             let n = &self.nodes[node];
-            let (mut mask, _) = n.enter::<SIGNED>(&r, t_min32, t_max32);
+            let (mut mask, _) = n.enter::<SIGNED>(r, t_min32, t_max32);
             while mask != 0 {
                 let lane = mask.trailing_zeros() as usize;
                 mask &= mask - 1;
                 let (child, count) = (n.child[lane] as usize, n.count[lane] as usize);
                 if count == 0 {
                     stack.push(child as u32);
-                } else if let Some(k) = (child..child + count).find(|&k| test(k)) {
+                } else if let Some(k) = (child..child + count).find(|&k| test.blocks(k)) {
                     return Some(k);
                 }
             }
@@ -267,13 +296,48 @@ impl Bvh {
     }
 }
 
+/// What the closest-hit walk asks of the primitive in slot `k` it reaches: its t and data if
+/// it is hit within t_max. Closures are the usual form; a type of its own (with its method
+/// `#[inline(always)]`) is inlined for certain, which the bundles' SIMD kernels need.
+pub trait Visit<T> {
+    fn test(&mut self, k: usize, t_max: f64) -> Option<(f64, T)>;
+}
+
+impl<T, F: FnMut(usize, f64) -> Option<(f64, T)>> Visit<T> for F {
+    #[inline(always)]
+    fn test(&mut self, k: usize, t_max: f64) -> Option<(f64, T)> {
+        self(k, t_max)
+    }
+}
+
+/// What the any-hit walk asks of a primitive: does it block the ray?
+pub trait VisitAny {
+    fn blocks(&mut self, k: usize) -> bool;
+}
+
+impl<F: FnMut(usize) -> bool> VisitAny for F {
+    #[inline(always)]
+    fn blocks(&mut self, k: usize) -> bool {
+        self(k)
+    }
+}
+
 /// A child waiting on the traversal stack: where the ray enters its box (a lower bound) and
 /// what it is (a node, or a leaf's run of primitives), copied from its parent's lane.
 #[derive(Debug, Clone, Copy)]
-struct Pending {
-    t_enter: f32,
-    child: u32,
-    count: u32,
+pub(super) struct Pending {
+    pub t_enter: f32,
+    pub child: u32,
+    pub count: u32,
+}
+
+impl Pending {
+    /// The root node, where every walk of the whole tree starts.
+    pub const ROOT: Pending = Pending {
+        t_enter: f32::NEG_INFINITY,
+        child: 0,
+        count: 0,
+    };
 }
 
 /// The entered child (lane of `node` set in `mask`) with the smallest entry t, returned to be

@@ -2,6 +2,7 @@
 //! rounding bounded so that it never culls a box the exact f64 ray enters.
 
 use super::{Node, WIDTH};
+use crate::accel::lanes::FW;
 use crate::math::Ray;
 
 impl Node {
@@ -62,10 +63,10 @@ impl Node {
 /// product): relative errors, covered by widening by [`SHRINK`] and [`GROW`].
 #[derive(Debug, Clone, Copy)]
 pub(in crate::accel) struct RayBox {
-    origin_in: [f32; 3],
-    origin_out: [f32; 3],
-    inv: [f32; 3],
-    neg: [bool; 3],
+    pub origin_in: [f32; 3],
+    pub origin_out: [f32; 3],
+    pub inv: [f32; 3],
+    pub neg: [bool; 3],
 }
 
 /// How far the slab test's entry and exit are moved apart to cover its rounding. Each
@@ -75,92 +76,29 @@ pub(in crate::accel) struct RayBox {
 /// exact one: never later; an exit times 1 + 6u (the next f32 above 1 + 5u) is at least
 /// (1 − 3u)(1 + 6u)(1 − u) ≈ 1 + 2u times it: never earlier. For t < 0 the two factors swap
 /// roles ([`Node::enter`]'s `SIGNED`).
-const SHRINK: f32 = 1.0 - 5.0 * (f32::EPSILON * 0.5);
-const GROW: f32 = 1.0 + 3.0 * f32::EPSILON;
+pub(in crate::accel) const SHRINK: f32 = 1.0 - 5.0 * (f32::EPSILON * 0.5);
+pub(in crate::accel) const GROW: f32 = 1.0 + 3.0 * f32::EPSILON;
 
 impl RayBox {
     #[inline(always)]
     pub(in crate::accel) fn new(ray: &Ray) -> RayBox {
         let inv = ray.dir.recip().to_array();
         let o = ray.origin.to_array();
-        let neg = inv.map(|x| x < 0.0);
-        let (below, above) = (o.map(|x| bracket(x).0), o.map(|x| bracket(x).1));
-        RayBox {
-            origin_in: std::array::from_fn(|k| if neg[k] { below[k] } else { above[k] }),
-            origin_out: std::array::from_fn(|k| if neg[k] { above[k] } else { below[k] }),
-            inv: inv.map(|x| x as f32),
-            neg,
+        let mut r = RayBox {
+            origin_in: [0.0; 3],
+            origin_out: [0.0; 3],
+            inv: [0.0; 3],
+            neg: [false; 3],
+        };
+        for k in 0..3 {
+            let neg = inv[k] < 0.0;
+            let (below, above) = bracket(o[k]);
+            r.origin_in[k] = if neg { below } else { above };
+            r.origin_out[k] = if neg { above } else { below };
+            r.inv[k] = inv[k] as f32;
+            r.neg[k] = neg;
         }
-    }
-}
-
-/// Four f32 lanes, each operation written lane by lane with plain comparisons, in a shape
-/// the compiler turns into one SSE instruction per operation (`max_or` is `maxps`, which
-/// returns its second operand when either is NaN; `le_mask` is `cmpleps` + `movmskps`).
-/// No `unsafe` and no intrinsics: the crate forbids unsafe code.
-#[derive(Debug, Clone, Copy)]
-struct FW([f32; WIDTH]);
-
-impl FW {
-    #[inline(always)]
-    fn splat(x: f32) -> FW {
-        FW([x; WIDTH])
-    }
-    #[inline(always)]
-    fn load(a: &[f32; WIDTH]) -> FW {
-        FW(*a)
-    }
-    /// max(self, other), but `other` where `self` is NaN.
-    #[inline(always)]
-    fn max_or(self, o: FW) -> FW {
-        FW(std::array::from_fn(|i| {
-            if self.0[i] > o.0[i] {
-                self.0[i]
-            } else {
-                o.0[i]
-            }
-        }))
-    }
-    /// min(self, other), but `other` where `self` is NaN.
-    #[inline(always)]
-    fn min_or(self, o: FW) -> FW {
-        FW(std::array::from_fn(|i| {
-            if self.0[i] < o.0[i] {
-                self.0[i]
-            } else {
-                o.0[i]
-            }
-        }))
-    }
-    /// Bit i set where lane i of self ≤ lane i of other (clear for NaN).
-    #[inline(always)]
-    fn le_mask(self, o: FW) -> u32 {
-        let m: [u32; WIDTH] = std::array::from_fn(|i| ((self.0[i] <= o.0[i]) as u32) << i);
-        m.iter().fold(0, |a, b| a | b)
-    }
-}
-
-impl std::ops::Sub for FW {
-    type Output = FW;
-    #[inline(always)]
-    fn sub(self, o: FW) -> FW {
-        FW(std::array::from_fn(|i| self.0[i] - o.0[i]))
-    }
-}
-
-impl std::ops::Add for FW {
-    type Output = FW;
-    #[inline(always)]
-    fn add(self, o: FW) -> FW {
-        FW(std::array::from_fn(|i| self.0[i] + o.0[i]))
-    }
-}
-
-impl std::ops::Mul for FW {
-    type Output = FW;
-    #[inline(always)]
-    fn mul(self, o: FW) -> FW {
-        FW(std::array::from_fn(|i| self.0[i] * o.0[i]))
+        r
     }
 }
 
@@ -170,7 +108,7 @@ impl std::ops::Mul for FW {
 /// normal f32 (for x near zero). Both moves are exact in f32. Looser than [`down`] and [`up`]
 /// by about an ulp, and much cheaper: it runs for every ray's origin.
 #[inline(always)]
-pub(super) fn bracket(x: f64) -> (f32, f32) {
+pub(in crate::accel) fn bracket(x: f64) -> (f32, f32) {
     let f = x as f32;
     let m = f.abs() * f32::EPSILON + f32::MIN_POSITIVE;
     (f - m, f + m)

@@ -1,0 +1,147 @@
+//! Sixteen lanes, one per ray of a bundle: the rays stored lane by lane ("structure of
+//! arrays"), so that one box, or one face, is tested against all of them in one pass
+//! ([`super::isa::Wide`] does the arithmetic at the processor's SIMD width). And four lanes,
+//! the four boxes of a node, for one ray's slab test.
+
+use super::bvh::WIDTH;
+
+/// Lanes in a bundle: a 4×4 block of pixels.
+pub const LANES: usize = 16;
+
+/// Sixteen `f32` lanes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[repr(C, align(64))]
+pub struct F32s(pub [f32; LANES]);
+
+/// Sixteen `f64` lanes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[repr(C, align(64))]
+pub struct F64s(pub [f64; LANES]);
+
+impl F32s {
+    #[inline(always)]
+    pub fn splat(x: f32) -> F32s {
+        F32s([x; LANES])
+    }
+
+    /// Each lane of `t` rounded up to `f32` (the smallest `f32` not below it).
+    #[inline(always)]
+    pub fn up(t: &[f64; LANES]) -> F32s {
+        let mut out = [0.0; LANES];
+        for i in 0..LANES {
+            let f = t[i] as f32;
+            out[i] = if (f as f64) < t[i] { f.next_up() } else { f };
+        }
+        F32s(out)
+    }
+
+    /// Bit i set where lane i is below zero (−0 is not; −∞ is).
+    #[inline(always)]
+    pub fn below_zero(&self) -> u32 {
+        let mut m = 0;
+        for i in 0..LANES {
+            m |= ((self.0[i] < 0.0) as u32) << i;
+        }
+        m
+    }
+
+    /// The smallest and the largest lane (NaN lanes are skipped; ±∞ if every lane is NaN).
+    /// Callers fill unused lanes with a copy of a used one.
+    #[inline(always)]
+    pub fn range(&self) -> (f32, f32) {
+        let v = &self.0;
+        let (mut lo, mut hi) = ([0.0f32; 8], [0.0f32; 8]);
+        for i in 0..8 {
+            let (a, b) = (v[i], v[i + 8]);
+            lo[i] = if a < b || b.is_nan() { a } else { b };
+            hi[i] = if a > b || b.is_nan() { a } else { b };
+        }
+        let (mut l, mut h) = (f32::INFINITY, f32::NEG_INFINITY);
+        for i in 0..8 {
+            l = if lo[i] < l { lo[i] } else { l };
+            h = if hi[i] > h { hi[i] } else { h };
+        }
+        (l, h)
+    }
+}
+
+/// Counters of the rays in a bundle: adds one to each lane set in `mask`.
+#[inline(always)]
+pub fn count(counters: &mut [u32; LANES], mask: u32) {
+    for (i, c) in counters.iter_mut().enumerate() {
+        *c += mask >> i & 1;
+    }
+}
+
+/// Four `f32` lanes: the four boxes of a node, tested against one ray (or one bundle's
+/// bounds) at once. Written lane by lane in a shape the compiler turns into one SSE
+/// instruction per operation (`max_or` is `maxps`, which returns its second operand when
+/// either is NaN; `le_mask` is `cmpleps` + `movmskps`).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct FW(pub [f32; WIDTH]);
+
+impl FW {
+    #[inline(always)]
+    pub fn splat(x: f32) -> FW {
+        FW([x; WIDTH])
+    }
+    #[inline(always)]
+    pub fn load(a: &[f32; WIDTH]) -> FW {
+        FW(*a)
+    }
+    /// max(self, other), but `other` where `self` is NaN.
+    #[inline(always)]
+    pub fn max_or(self, o: FW) -> FW {
+        let mut out = o.0;
+        for (r, &x) in out.iter_mut().zip(&self.0) {
+            if x > *r {
+                *r = x;
+            }
+        }
+        FW(out)
+    }
+    /// min(self, other), but `other` where `self` is NaN.
+    #[inline(always)]
+    pub fn min_or(self, o: FW) -> FW {
+        let mut out = o.0;
+        for (r, &x) in out.iter_mut().zip(&self.0) {
+            if x < *r {
+                *r = x;
+            }
+        }
+        FW(out)
+    }
+    /// Bit i set where lane i of self ≤ lane i of other (clear for NaN).
+    #[inline(always)]
+    pub fn le_mask(self, o: FW) -> u32 {
+        let mut m = 0;
+        for i in 0..WIDTH {
+            m |= ((self.0[i] <= o.0[i]) as u32) << i;
+        }
+        m
+    }
+}
+
+impl std::ops::Sub for FW {
+    type Output = FW;
+    #[inline(always)]
+    fn sub(self, o: FW) -> FW {
+        let mut out = self.0;
+        for (r, &x) in out.iter_mut().zip(&o.0) {
+            *r -= x;
+        }
+        FW(out)
+    }
+}
+
+impl std::ops::Mul for FW {
+    type Output = FW;
+    #[inline(always)]
+    fn mul(self, o: FW) -> FW {
+        let mut out = self.0;
+        for (r, &x) in out.iter_mut().zip(&o.0) {
+            *r *= x;
+        }
+        FW(out)
+    }
+}
