@@ -403,16 +403,16 @@ impl Bvh {
                 if rays == 0 {
                     continue;
                 }
-                if rays.count_ones() <= FEW {
+                if p.count == 0 {
+                    if rays.count_ones() > FEW {
+                        (node, mask) = (p.child as usize, rays);
+                        break;
+                    }
                     self.closest_alone(b, rays, p.single(), t_min, t_max, work, leaf);
                     for i in Bits(rays) {
                         t_max32.0[i] = up(t_max[i]);
                     }
                     continue;
-                }
-                if p.count == 0 {
-                    (node, mask) = (p.child as usize, rays);
-                    break;
                 }
                 for k in p.child as usize..(p.child + p.count) as usize {
                     leaf.test(k, rays, t_max);

@@ -92,33 +92,30 @@ impl FW {
     /// max(self, other), but `other` where `self` is NaN.
     #[inline(always)]
     pub fn max_or(self, o: FW) -> FW {
-        let mut out = o.0;
-        for (r, &x) in out.iter_mut().zip(&self.0) {
-            if x > *r {
-                *r = x;
+        FW(std::array::from_fn(|i| {
+            if self.0[i] > o.0[i] {
+                self.0[i]
+            } else {
+                o.0[i]
             }
-        }
-        FW(out)
+        }))
     }
     /// min(self, other), but `other` where `self` is NaN.
     #[inline(always)]
     pub fn min_or(self, o: FW) -> FW {
-        let mut out = o.0;
-        for (r, &x) in out.iter_mut().zip(&self.0) {
-            if x < *r {
-                *r = x;
+        FW(std::array::from_fn(|i| {
+            if self.0[i] < o.0[i] {
+                self.0[i]
+            } else {
+                o.0[i]
             }
-        }
-        FW(out)
+        }))
     }
     /// Bit i set where lane i of self ≤ lane i of other (clear for NaN).
     #[inline(always)]
     pub fn le_mask(self, o: FW) -> u32 {
-        let mut m = 0;
-        for i in 0..WIDTH {
-            m |= ((self.0[i] <= o.0[i]) as u32) << i;
-        }
-        m
+        let m: [u32; WIDTH] = std::array::from_fn(|i| ((self.0[i] <= o.0[i]) as u32) << i);
+        m.iter().fold(0, |a, b| a | b)
     }
 }
 
@@ -126,11 +123,7 @@ impl std::ops::Sub for FW {
     type Output = FW;
     #[inline(always)]
     fn sub(self, o: FW) -> FW {
-        let mut out = self.0;
-        for (r, &x) in out.iter_mut().zip(&o.0) {
-            *r -= x;
-        }
-        FW(out)
+        FW(std::array::from_fn(|i| self.0[i] - o.0[i]))
     }
 }
 
@@ -138,10 +131,6 @@ impl std::ops::Mul for FW {
     type Output = FW;
     #[inline(always)]
     fn mul(self, o: FW) -> FW {
-        let mut out = self.0;
-        for (r, &x) in out.iter_mut().zip(&o.0) {
-            *r *= x;
-        }
-        FW(out)
+        FW(std::array::from_fn(|i| self.0[i] * o.0[i]))
     }
 }

@@ -6,6 +6,7 @@
 //!
 //! Adding an AOV: one variant, one row in [`Aov::ALL`], one arm in [`Aov::display`].
 
+use super::bundles::OwnedFound;
 use super::{pixel_samples, render_reconstruct, Filter};
 use crate::accel::Traversal;
 use crate::math::Ray;
@@ -326,6 +327,9 @@ impl Recorder for AovRecorder {
 }
 
 /// Every sample of every pixel, row-major, with its film position.
+/// A camera ray made in a bundle, with what the bundle found for it.
+type BundledCamera = (CameraRay, OwnedFound);
+
 pub struct AovSamples {
     pub width: u32,
     pub height: u32,
@@ -344,7 +348,8 @@ pub fn trace_aov_samples(scene: &Scene, settings: &RenderSettings) -> AovSamples
                 .map(|x| pixel_samples(settings.sampler, settings.spp, settings.seed, x, y))
                 .collect();
             // Bundles: runs of 16 neighbours in the row, sample index by sample index.
-            let mut cameras: Option<Vec<Vec<Option<CameraRay>>>> = (settings.traversal
+            let mut cameras: Option<Vec<Vec<Option<BundledCamera>>>> = (settings
+                .traversal
                 == Traversal::Bundle
                 && !settings.mistakes.changes_hits())
             .then(|| {
@@ -357,7 +362,7 @@ pub fn trace_aov_samples(scene: &Scene, settings: &RenderSettings) -> AovSamples
                         })
                     })
                     .collect();
-                let mut grid: Vec<Vec<Option<CameraRay>>> =
+                let mut grid: Vec<Vec<Option<BundledCamera>>> =
                     films.iter().map(|f| vec![None; f.len()]).collect();
                 let rays =
                     super::bundles::camera_rays(scene, settings, &samples, &mut Default::default());
@@ -373,13 +378,17 @@ pub fn trace_aov_samples(scene: &Scene, settings: &RenderSettings) -> AovSamples
                         .enumerate()
                         .map(|(k, &film)| {
                             rec.reset();
-                            let mut camera = cameras
-                                .as_mut()
-                                .and_then(|c| c[x as usize][k].take())
-                                .unwrap_or_else(|| {
-                                    camera_ray(scene, settings, x, y, k as u32, film)
-                                });
-                            trace_camera(scene, settings, &mut camera, &mut rec);
+                            match cameras.as_mut().and_then(|c| c[x as usize][k].take()) {
+                                Some((mut camera, found)) => {
+                                    let found = Some(found.found());
+                                    trace_camera(scene, settings, &mut camera, found, &mut rec);
+                                }
+                                None => {
+                                    let mut camera =
+                                        camera_ray(scene, settings, x, y, k as u32, film);
+                                    trace_camera(scene, settings, &mut camera, None, &mut rec);
+                                }
+                            }
                             (film, rec.take())
                         })
                         .collect()

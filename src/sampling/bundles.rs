@@ -82,12 +82,13 @@ pub fn trace_bundled(
     tile: &Tile,
     plan: &TilePlan,
     tally: &mut BundleTally,
-    mut trace: impl FnMut(usize, u32, &mut CameraRay),
+    mut trace: impl FnMut(usize, u32, &mut CameraRay, Found),
     mut block_done: impl FnMut(u64),
 ) {
     let tile_w = tile.x.len() as u32;
     let mut cams: ArrayVec<CameraRay, BUNDLE> = ArrayVec::new();
     let mut pixels: ArrayVec<usize, BUNDLE> = ArrayVec::new();
+    let mut hits = BundleHits::default();
     for by in (tile.y.start..tile.y.end).step_by(SIDE as usize) {
         for bx in (tile.x.start..tile.x.end).step_by(SIDE as usize) {
             if settings.cancel.is_cancelled() {
@@ -110,9 +111,9 @@ pub fn trace_bundled(
                     cams.push(camera_ray(scene, settings, x, y, k, film));
                     pixels.push(l);
                 }
-                find_hits(scene, &mut cams, tally);
-                for (cam, &l) in cams.iter_mut().zip(&pixels) {
-                    trace(l, k, cam);
+                hits.find(scene, &cams, tally);
+                for (j, (cam, &l)) in cams.iter_mut().zip(&pixels).enumerate() {
+                    trace(l, k, cam, hits.found(j));
                 }
             }
             block_done(block(0).count() as u64);
@@ -122,69 +123,96 @@ pub fn trace_bundled(
 // ANCHOR_END: trace_bundled
 
 /// The camera rays of `samples` (pixel x, y, sample index, film), each run of [`BUNDLE`]
-/// consecutive ones traced together to their closest hits: callers list neighbours next
-/// to each other.
+/// consecutive ones traced together to their closest hits, and each one's hit and share of
+/// the work ([`OwnedFound::found`]): callers list neighbours next to each other.
 pub fn camera_rays(
     scene: &Scene,
     settings: &RenderSettings,
     samples: &[(u32, u32, u32, DVec2)],
     tally: &mut BundleTally,
-) -> Vec<CameraRay> {
+) -> Vec<(CameraRay, OwnedFound)> {
     let mut out = Vec::with_capacity(samples.len());
+    let mut hits = BundleHits::default();
     for chunk in samples.chunks(BUNDLE) {
-        bundle_into(scene, settings, chunk, tally, |_, cam| out.push(cam));
+        let cams: ArrayVec<CameraRay, BUNDLE> = chunk
+            .iter()
+            .map(|&(x, y, k, film)| camera_ray(scene, settings, x, y, k, film))
+            .collect();
+        hits.find(scene, &cams, tally);
+        for (j, cam) in cams.into_iter().enumerate() {
+            let found = OwnedFound {
+                hit: hits.hits[j],
+                tests: hits.cost.tests[j],
+                nodes: hits.cost.nodes[j],
+            };
+            out.push((cam, found));
+        }
     }
     out
 }
 
-/// One bundle: the camera rays of at most [`BUNDLE`] samples, made and traced together to
-/// their closest hits, handed to `put(j, ray)` in the order of `samples`.
-fn bundle_into(
-    scene: &Scene,
-    settings: &RenderSettings,
-    samples: &[(u32, u32, u32, DVec2)],
-    tally: &mut BundleTally,
-    mut put: impl FnMut(usize, CameraRay),
-) {
-    if samples.is_empty() {
-        return;
-    }
-    // Pushed one by one rather than collected: whether the compiler inlined `collect` (and
-    // so built the 16 rays in place instead of copying them out) changed with how the crate
-    // fell into codegen units, 130 instructions a pixel.
-    let mut cams: ArrayVec<CameraRay, BUNDLE> = ArrayVec::new();
-    for &(x, y, k, film) in samples {
-        cams.push(camera_ray(scene, settings, x, y, k, film));
-    }
-    find_hits(scene, &mut cams, tally);
-    for (j, cam) in cams.into_iter().enumerate() {
-        put(j, cam);
+/// A [`Found`] that owns its hit, to be kept beside its camera ray.
+#[derive(Debug, Clone, Copy)]
+pub struct OwnedFound {
+    pub hit: Option<(usize, crate::shapes::LocalHit)>,
+    pub tests: u32,
+    pub nodes: u32,
+}
+
+impl OwnedFound {
+    pub fn found(&self) -> Found<'_> {
+        Found {
+            hit: self.hit.as_ref(),
+            tests: self.tests,
+            nodes: self.nodes,
+        }
     }
 }
 
-/// Walks up to [`BUNDLE`] camera rays to their closest hits together, and gives each its
-/// hit and its share of the work ([`Found`]).
-fn find_hits(scene: &Scene, cams: &mut [CameraRay], tally: &mut BundleTally) {
-    let n = cams.len();
-    if n == 0 {
-        return;
+/// One bundle's results: each camera ray's closest hit and its share of the work.
+struct BundleHits {
+    hits: [Option<(usize, crate::shapes::LocalHit)>; BUNDLE],
+    cost: BundleCost,
+}
+
+impl Default for BundleHits {
+    fn default() -> Self {
+        BundleHits {
+            hits: [None; BUNDLE],
+            cost: BundleCost::default(),
+        }
     }
-    let mut rays = [Ray::new(DVec3::ZERO, DVec3::Z); BUNDLE];
-    for (ray, cam) in rays.iter_mut().zip(&*cams) {
-        *ray = cam.ray;
+}
+
+impl BundleHits {
+    /// Walks up to [`BUNDLE`] camera rays to their closest hits together.
+    fn find(&mut self, scene: &Scene, cams: &[CameraRay], tally: &mut BundleTally) {
+        let n = cams.len();
+        if n == 0 {
+            return;
+        }
+        let mut rays = [Ray::new(DVec3::ZERO, DVec3::Z); BUNDLE];
+        for (ray, cam) in rays.iter_mut().zip(cams) {
+            *ray = cam.ray;
+        }
+        self.cost = BundleCost::default();
+        scene.accel.closest_bundle_into(
+            &scene.objects,
+            &rays[..n],
+            0.0,
+            &mut self.cost,
+            &mut self.hits,
+        );
+        tally.bundles += 1;
+        tally.opened += self.cost.opened as u64;
     }
-    let mut cost = BundleCost::default();
-    let mut hits = [None; BUNDLE];
-    scene
-        .accel
-        .closest_bundle_into(&scene.objects, &rays[..n], 0.0, &mut cost, &mut hits);
-    tally.bundles += 1;
-    tally.opened += cost.opened as u64;
-    for (j, cam) in cams.iter_mut().enumerate() {
-        cam.found = Some(Found {
-            hit: hits[j],
-            tests: cost.tests[j],
-            nodes: cost.nodes[j],
-        });
+
+    /// Ray j's hit and share of the work.
+    fn found(&self, j: usize) -> Found<'_> {
+        Found {
+            hit: self.hits[j].as_ref(),
+            tests: self.cost.tests[j],
+            nodes: self.cost.nodes[j],
+        }
     }
 }

@@ -168,9 +168,9 @@ fn render_with<R: Tally>(
                     tile,
                     &plan,
                     &mut tally,
-                    |l, k, camera| {
+                    |l, k, camera, found| {
                         let (x, y) = (tile.x.start + l as u32 % tw, tile.y.start + l as u32 / tw);
-                        let r = trace_camera(scene, settings, camera, &mut recs[l]);
+                        let r = trace_camera(scene, settings, camera, Some(found), &mut recs[l]);
                         samples[(plan.starts[l] + k) as usize] = PixelSample {
                             index: k,
                             film: r.film,
@@ -199,10 +199,8 @@ fn render_with<R: Tally>(
                     let mut rec = R::default();
                     sample_pixel_into(settings, w, h, x, y, &mut samples, |k, film| {
                         let mut camera = camera_ray(scene, settings, x, y, k, film);
-                        firsts.note(
-                            &trace_camera(scene, settings, &mut camera, &mut rec),
-                            (x, y, k),
-                        )
+                        let r = trace_camera(scene, settings, &mut camera, None, &mut rec);
+                        firsts.note(&r, (x, y, k))
                     });
                     ends.push(samples.len() as u32);
                     tally_pixel(rec);

@@ -128,20 +128,44 @@ impl Bvh {
         visited: &mut u32,
         test: impl FnMut(usize, f64) -> Option<(f64, T)>,
     ) -> Option<(usize, T)> {
-        if self.nodes.is_empty() {
-            return None;
-        }
+        let root = self.nodes.first()?;
         let r = RayBox::new(ray);
-        self.closest_from::<SIGNED, T>(&r, Pending::ROOT, t_min, t_max, visited, test)
+        *visited += 1;
+        let (mask, near) = root.enter::<SIGNED>(&r, down(t_min), up(t_max));
+        if mask == 0 {
+            return None; // most rays of a typical image: no stack to set up
+        }
+        let mut stack = ArrayVec::<Pending, STACK>::new();
+        // The nearest child the ray enters is opened next without going through the stack;
+        // only its siblings wait there.
+        let next = nearest_pushing_rest(&mut stack, root, mask, &near);
+        self.walk_closest::<SIGNED, T>(&r, &mut stack, next, t_min, t_max, visited, test)
     }
 
-    /// The closest-hit walk of one ray from `start` (the root, or a child a bundle handed
-    /// over: [`super::bundle`]).
+    /// The closest-hit walk of one ray from `start` (a child a bundle handed over:
+    /// [`super::bundle`]).
     #[inline(always)]
     pub(super) fn closest_from<const SIGNED: bool, T>(
         &self,
         r: &RayBox,
         start: Pending,
+        t_min: f64,
+        t_max: f64,
+        visited: &mut u32,
+        test: impl Visit<T>,
+    ) -> Option<(usize, T)> {
+        let mut stack = ArrayVec::<Pending, STACK>::new();
+        self.walk_closest::<SIGNED, T>(r, &mut stack, start, t_min, t_max, visited, test)
+    }
+
+    /// The walk itself: opens `next`, then what comes off `stack`.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn walk_closest<const SIGNED: bool, T>(
+        &self,
+        r: &RayBox,
+        stack: &mut ArrayVec<Pending, STACK>,
+        mut next: Pending,
         t_min: f64,
         mut t_max: f64,
         visited: &mut u32,
@@ -149,10 +173,6 @@ impl Bvh {
     ) -> Option<(usize, T)> {
         let (t_min32, mut t_max32) = (down(t_min), up(t_max));
         let mut best = None;
-        let mut stack = ArrayVec::<Pending, STACK>::new();
-        // The nearest child the ray enters is opened next without going through the stack;
-        // only its siblings wait there.
-        let mut next = start;
         loop {
             let Pending {
                 t_enter,
@@ -167,7 +187,7 @@ impl Bvh {
                     let node = &self.nodes[child];
                     let (mask, near) = node.enter::<SIGNED>(r, t_min32, t_max32);
                     if mask != 0 {
-                        next = nearest_pushing_rest(&mut stack, node, mask, &near);
+                        next = nearest_pushing_rest(stack, node, mask, &near);
                         continue;
                     }
                 } else {
@@ -332,7 +352,7 @@ pub(super) struct Pending {
 }
 
 impl Pending {
-    /// The root node, where every walk of the whole tree starts.
+    /// The root node, where a walk of the whole tree starts.
     pub const ROOT: Pending = Pending {
         t_enter: f32::NEG_INFINITY,
         child: 0,

@@ -32,25 +32,24 @@ pub fn trace_sample<R: Recorder>(
     rec: &mut R,
 ) -> SampleResult {
     let mut camera = camera_ray(scene, settings, px, py, index, film);
-    trace_camera(scene, settings, &mut camera, rec)
+    trace_camera(scene, settings, &mut camera, None, rec)
 }
 
-/// A sample's camera ray, made but not yet traced: the ray, how it was generated, the
-/// sample's random stream after the lens sample, and (when a bundle of camera rays already
-/// walked the scene, [`crate::sampling::bundles`]) its closest hit and what finding it cost.
+/// A sample's camera ray, made but not yet traced: the ray, how it was generated, and the
+/// sample's random stream after the lens sample.
 #[derive(Debug, Clone)]
 pub struct CameraRay {
     pub ray: Ray,
     pub generation: RayGeneration,
     pub rng: Rng,
-    pub found: Option<Found>,
 }
 
-/// A camera ray's closest hit found in a bundle: exactly what `Accel::closest` returns for
-/// it, with its share of the work (intersection tests, nodes it was tested at).
+/// A camera ray's closest hit found in a bundle ([`crate::sampling::bundles`]): exactly what
+/// `Accel::closest` returns for it (borrowed from the bundle's results, not copied), with
+/// its share of the work (intersection tests, nodes it was tested at).
 #[derive(Debug, Clone, Copy)]
-pub struct Found {
-    pub hit: Option<(usize, crate::shapes::LocalHit)>,
+pub struct Found<'h> {
+    pub hit: Option<&'h (usize, crate::shapes::LocalHit)>,
     pub tests: u32,
     pub nodes: u32,
 }
@@ -72,36 +71,27 @@ pub fn camera_ray(
         ray,
         generation,
         rng,
-        found: None,
     }
 }
 
-/// Traces a camera ray ([`camera_ray`]); with its hit already found, the recorder hears the
-/// bundle's share of the work ([`Recorder::bundled`]) instead of the walk.
-/// The camera ray is borrowed, not moved: it is a few hundred bytes, and a tile's bundled
+/// Traces a camera ray ([`camera_ray`]); with its hit `found` already (by a bundle), the
+/// recorder hears the bundle's share of the work ([`Recorder::bundled`]) instead of the walk.
+/// The camera ray is borrowed, not moved: it is a few hundred bytes, and a block's bundled
 /// rays are traced where they lie.
 pub fn trace_camera<R: Recorder>(
     scene: &Scene,
     settings: &RenderSettings,
     camera: &mut CameraRay,
+    found: Option<Found>,
     rec: &mut R,
 ) -> SampleResult {
     let CameraRay {
         ray,
         generation,
         rng,
-        found,
     } = camera;
     let tracer = Tracer::new(scene, settings);
-    let color = tracer.trace_found(
-        ray,
-        RayKind::Camera,
-        0,
-        DVec3::ONE,
-        rng,
-        rec,
-        found.as_ref(),
-    );
+    let color = tracer.trace_found(ray, RayKind::Camera, 0, DVec3::ONE, rng, rec, found);
     SampleResult {
         film: generation.film,
         color,

@@ -67,7 +67,7 @@ impl<'a> Tracer<'a> {
         weight: DVec3,
         rng: &mut Rng,
         rec: &mut R,
-        found: Option<&Found>,
+        found: Option<Found>,
     ) -> DVec3 {
         rec.begin_ray(kind, depth, ray);
         self.budget.count();
@@ -75,7 +75,7 @@ impl<'a> Tracer<'a> {
         let closest = match found {
             Some(f) => {
                 rec.bundled(f.tests, f.nodes);
-                f.hit
+                f.hit.copied()
             }
             None => scene.accel.closest_as(
                 &scene.objects,
