@@ -6,14 +6,15 @@
 //!
 //! Adding an AOV: one variant, one row in [`Aov::ALL`], one arm in [`Aov::display`].
 
-use super::bundles::OwnedFound;
+use super::bundles::{trace_bundled, BundleTally, TilePlan};
+use super::tiles::{tiles, Tile};
 use super::{pixel_samples, render_reconstruct, Filter};
 use crate::accel::Traversal;
 use crate::math::Ray;
 use crate::scene::{Encoding, RenderSettings, Scene};
 use crate::shading::{LightTerm, Shading};
 use crate::trace::{
-    camera_ray, trace_camera, CameraRay, CountObserver, End, HitInfo, RayKind, Recorder,
+    camera_ray, trace_camera, CameraRay, CountObserver, End, Found, HitInfo, RayKind, Recorder,
 };
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
@@ -327,80 +328,68 @@ impl Recorder for AovRecorder {
 }
 
 /// Every sample of every pixel, row-major, with its film position.
-/// A camera ray made in a bundle, with what the bundle found for it.
-type BundledCamera = (CameraRay, OwnedFound);
-
 pub struct AovSamples {
     pub width: u32,
     pub height: u32,
     pub pixels: Vec<Vec<(DVec2, AovSample)>>,
 }
 
-/// Traces every camera sample of the image with an [`AovRecorder`] (rows in parallel,
-/// gathered in order: the result does not depend on the thread count).
+/// Traces every camera sample of the image with an [`AovRecorder`], tile by tile as `render`
+/// does (tiles in parallel, gathered in order: the result does not depend on the thread
+/// count). With bundles, a tile goes block by block through the film's own
+/// [`trace_bundled`], so each sample's cost is the share `--stats` counts for it.
 pub fn trace_aov_samples(scene: &Scene, settings: &RenderSettings) -> AovSamples {
     let (w, h) = (scene.camera.width, scene.camera.height);
-    let rows: Vec<Vec<Vec<(DVec2, AovSample)>>> = (0..h)
+    let bundled = settings.traversal == Traversal::Bundle && !settings.mistakes.changes_hits();
+    let traced: Vec<(Tile, Vec<Vec<(DVec2, AovSample)>>)> = tiles(w, h)
         .into_par_iter()
-        .map(|y| {
+        .map(|tile| {
             let mut rec = AovRecorder::default();
-            let films: Vec<Vec<DVec2>> = (0..w)
-                .map(|x| pixel_samples(settings.sampler, settings.spp, settings.seed, x, y))
-                .collect();
-            // Bundles: runs of 16 neighbours in the row, sample index by sample index.
-            let mut cameras: Option<Vec<Vec<Option<BundledCamera>>>> = (settings
-                .traversal
-                == Traversal::Bundle
-                && !settings.mistakes.changes_hits())
-            .then(|| {
-                let most = films.iter().map(Vec::len).max().unwrap_or(0);
-                let samples: Vec<(u32, u32, u32, DVec2)> = (0..most)
-                    .flat_map(|k| {
-                        let films = &films;
-                        (0..w).filter_map(move |x| {
-                            films[x as usize].get(k).map(|&f| (x, y, k as u32, f))
-                        })
-                    })
-                    .collect();
-                let mut grid: Vec<Vec<Option<BundledCamera>>> =
-                    films.iter().map(|f| vec![None; f.len()]).collect();
-                let rays =
-                    super::bundles::camera_rays(scene, settings, &samples, &mut Default::default());
-                for (s, cam) in samples.iter().zip(rays) {
-                    grid[s.0 as usize][s.2 as usize] = Some(cam);
-                }
-                grid
+            let plan = TilePlan::of(&tile, |x, y| {
+                pixel_samples(settings.sampler, settings.spp, settings.seed, x, y)
             });
-            (0..w)
-                .map(|x| {
-                    films[x as usize]
-                        .iter()
-                        .enumerate()
-                        .map(|(k, &film)| {
-                            rec.reset();
-                            match cameras.as_mut().and_then(|c| c[x as usize][k].take()) {
-                                Some((mut camera, found)) => {
-                                    let found = Some(found.found());
-                                    trace_camera(scene, settings, &mut camera, found, &mut rec);
-                                }
-                                None => {
-                                    let mut camera =
-                                        camera_ray(scene, settings, x, y, k as u32, film);
-                                    trace_camera(scene, settings, &mut camera, None, &mut rec);
-                                }
-                            }
-                            (film, rec.take())
-                        })
-                        .collect()
-                })
-                .collect()
+            let mut out: Vec<Vec<(DVec2, AovSample)>> = vec![Vec::new(); tile.len()];
+            if bundled {
+                let mut tally = BundleTally::default();
+                let trace = |l: usize, _, _, camera: &mut CameraRay, found: Found| {
+                    out[l].push(aov_sample(scene, settings, &mut rec, camera, Some(found)));
+                };
+                trace_bundled(scene, settings, &tile, &plan, &mut tally, trace, |_| {});
+            } else {
+                for (l, (x, y)) in tile.pixels().enumerate() {
+                    for (k, &film) in plan.films_of(l).iter().enumerate() {
+                        let mut camera = camera_ray(scene, settings, x, y, k as u32, film);
+                        out[l].push(aov_sample(scene, settings, &mut rec, &mut camera, None));
+                    }
+                }
+            }
+            (tile, out)
         })
         .collect();
+    let mut pixels = vec![Vec::new(); w as usize * h as usize];
+    for (tile, out) in traced {
+        for ((x, y), samples) in tile.pixels().zip(out) {
+            pixels[(y * w + x) as usize] = samples;
+        }
+    }
     AovSamples {
         width: w,
         height: h,
-        pixels: rows.into_iter().flatten().collect(),
+        pixels,
     }
+}
+
+/// One camera sample traced with `rec`: where it was on the film, and what it saw.
+fn aov_sample(
+    scene: &Scene,
+    settings: &RenderSettings,
+    rec: &mut AovRecorder,
+    camera: &mut CameraRay,
+    found: Option<Found>,
+) -> (DVec2, AovSample) {
+    rec.reset();
+    trace_camera(scene, settings, camera, found, rec);
+    (camera.generation.film, rec.take())
 }
 
 /// Image-wide values the false colours are scaled by.

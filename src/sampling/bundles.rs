@@ -54,6 +54,25 @@ impl TilePlan {
         Some(TilePlan { films, starts })
     }
 
+    /// A plan of every pixel of `tile`, pixel (x, y)'s samples at `films(x, y)`.
+    pub fn of(tile: &Tile, mut films: impl FnMut(u32, u32) -> Vec<DVec2>) -> Self {
+        let mut plan = TilePlan {
+            films: Vec::with_capacity(tile.len()),
+            starts: Vec::with_capacity(tile.len() + 1),
+        };
+        plan.starts.push(0);
+        for (x, y) in tile.pixels() {
+            plan.films.extend(films(x, y));
+            plan.starts.push(plan.films.len() as u32);
+        }
+        plan
+    }
+
+    /// The film positions of the tile's pixel `l`, by sample index.
+    pub fn films_of(&self, l: usize) -> &[DVec2] {
+        &self.films[self.starts[l] as usize..self.starts[l + 1] as usize]
+    }
+
     /// Samples in the tile.
     pub fn len(&self) -> usize {
         self.films.len()
@@ -73,101 +92,55 @@ impl TilePlan {
 /// Traces every sample of `plan` in bundles: per SIDE×SIDE block of the tile's pixels and per
 /// sample index, the block's camera rays are made, walked to their closest hits together
 /// ([`crate::accel::Accel::closest_bundle_into`]), and handed one by one, hit found, to
-/// `trace(l, k, camera)` (the tile's pixel `l`, its sample `k`), which shades them with the
-/// one tracer. `block_done(pixels)` follows each block; a cancelled render
-/// (`settings.cancel`) stops before the next block.
+/// `trace(l, (x, y), k, camera)` (the tile's pixel `l`, at (x, y), its sample `k`), which
+/// shades them with the one tracer. `block_done(pixels)` follows each block; a cancelled
+/// render (`settings.cancel`) stops before the next block.
 pub fn trace_bundled(
     scene: &Scene,
     settings: &RenderSettings,
     tile: &Tile,
     plan: &TilePlan,
     tally: &mut BundleTally,
-    mut trace: impl FnMut(usize, u32, &mut CameraRay, Found),
+    mut trace: impl FnMut(usize, (u32, u32), u32, &mut CameraRay, Found),
     mut block_done: impl FnMut(u64),
 ) {
     let tile_w = tile.x.len() as u32;
     let mut cams: ArrayVec<CameraRay, BUNDLE> = ArrayVec::new();
-    let mut pixels: ArrayVec<usize, BUNDLE> = ArrayVec::new();
+    let mut pixels: ArrayVec<(usize, (u32, u32)), BUNDLE> = ArrayVec::new();
+    let mut block: ArrayVec<(usize, (u32, u32)), BUNDLE> = ArrayVec::new();
     let mut hits = BundleHits::default();
     for by in (tile.y.start..tile.y.end).step_by(SIDE as usize) {
         for bx in (tile.x.start..tile.x.end).step_by(SIDE as usize) {
             if settings.cancel.is_cancelled() {
                 return;
             }
-            let block = |k: u32| {
-                let ys = by..(by + SIDE).min(tile.y.end);
-                ys.flat_map(move |y| (bx..(bx + SIDE).min(tile.x.end)).map(move |x| (x, y)))
-                    .map(move |(x, y)| {
-                        let l = ((y - tile.y.start) * tile_w + (x - tile.x.start)) as usize;
-                        (x, y, l, k)
-                    })
-            };
-            let most = block(0).map(|(.., l, _)| plan.samples_of(l)).max();
+            // The block's pixels: the tile's pixel index and where it is on the image.
+            block.clear();
+            for y in by..(by + SIDE).min(tile.y.end) {
+                for x in bx..(bx + SIDE).min(tile.x.end) {
+                    let l = ((y - tile.y.start) * tile_w + (x - tile.x.start)) as usize;
+                    block.push((l, (x, y)));
+                }
+            }
+            let most = block.iter().map(|&(l, _)| plan.samples_of(l)).max();
             for k in 0..most.unwrap_or(0) {
                 cams.clear();
                 pixels.clear();
-                for (x, y, l, k) in block(k).filter(|&(.., l, k)| k < plan.samples_of(l)) {
+                for &(l, (x, y)) in block.iter().filter(|&&(l, _)| k < plan.samples_of(l)) {
                     let film = plan.films[(plan.starts[l] + k) as usize];
                     cams.push(camera_ray(scene, settings, x, y, k, film));
-                    pixels.push(l);
+                    pixels.push((l, (x, y)));
                 }
                 hits.find(scene, &cams, tally);
-                for (j, (cam, &l)) in cams.iter_mut().zip(&pixels).enumerate() {
-                    trace(l, k, cam, hits.found(j));
+                for (j, (cam, &(l, xy))) in cams.iter_mut().zip(&pixels).enumerate() {
+                    trace(l, xy, k, cam, hits.found(j));
                 }
             }
-            block_done(block(0).count() as u64);
+            block_done(block.len() as u64);
         }
     }
 }
 // ANCHOR_END: trace_bundled
-
-/// The camera rays of `samples` (pixel x, y, sample index, film), each run of [`BUNDLE`]
-/// consecutive ones traced together to their closest hits, and each one's hit and share of
-/// the work ([`OwnedFound::found`]): callers list neighbours next to each other.
-pub fn camera_rays(
-    scene: &Scene,
-    settings: &RenderSettings,
-    samples: &[(u32, u32, u32, DVec2)],
-    tally: &mut BundleTally,
-) -> Vec<(CameraRay, OwnedFound)> {
-    let mut out = Vec::with_capacity(samples.len());
-    let mut hits = BundleHits::default();
-    for chunk in samples.chunks(BUNDLE) {
-        let cams: ArrayVec<CameraRay, BUNDLE> = chunk
-            .iter()
-            .map(|&(x, y, k, film)| camera_ray(scene, settings, x, y, k, film))
-            .collect();
-        hits.find(scene, &cams, tally);
-        for (j, cam) in cams.into_iter().enumerate() {
-            let found = OwnedFound {
-                hit: hits.hits[j],
-                tests: hits.cost.tests[j],
-                nodes: hits.cost.nodes[j],
-            };
-            out.push((cam, found));
-        }
-    }
-    out
-}
-
-/// A [`Found`] that owns its hit, to be kept beside its camera ray.
-#[derive(Debug, Clone, Copy)]
-pub struct OwnedFound {
-    pub hit: Option<(usize, crate::shapes::LocalHit)>,
-    pub tests: u32,
-    pub nodes: u32,
-}
-
-impl OwnedFound {
-    pub fn found(&self) -> Found<'_> {
-        Found {
-            hit: self.hit.as_ref(),
-            tests: self.tests,
-            nodes: self.nodes,
-        }
-    }
-}
 
 /// One bundle's results: each camera ray's closest hit and its share of the work.
 struct BundleHits {

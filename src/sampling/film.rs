@@ -161,15 +161,13 @@ fn render_with<R: Tally>(
             let (samples, ends) = if let Some(plan) = plan {
                 let mut samples = vec![PixelSample::UNTRACED; plan.len()];
                 let mut recs: Vec<R> = (0..tile.len()).map(|_| R::default()).collect();
-                let tw = tile.x.len() as u32;
                 trace_bundled(
                     scene,
                     settings,
                     tile,
                     &plan,
                     &mut tally,
-                    |l, k, camera, found| {
-                        let (x, y) = (tile.x.start + l as u32 % tw, tile.y.start + l as u32 / tw);
+                    |l, (x, y), k, camera, found| {
                         let r = trace_camera(scene, settings, camera, Some(found), &mut recs[l]);
                         samples[(plan.starts[l] + k) as usize] = PixelSample {
                             index: k,

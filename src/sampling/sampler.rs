@@ -119,6 +119,9 @@ pub fn pixel_samples(kind: SamplerKind, spp: u32, seed: u64, x: u32, y: u32) -> 
 /// samples to reconstruct from; the filter, stretched K times, fills in the others.
 pub fn traces_samples(settings: &RenderSettings, width: u32, height: u32, x: u32, y: u32) -> bool {
     let k = settings.subsample.max(1);
+    if k == 1 {
+        return true; // every pixel (and no division on the renderer's path)
+    }
     (x.is_multiple_of(k) || x + 1 == width) && (y.is_multiple_of(k) || y + 1 == height)
 }
 // ANCHOR_END: subsample

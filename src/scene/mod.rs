@@ -174,7 +174,7 @@ impl Default for RenderSettings {
             cancel: crate::interrupt::Cancel::default(),
             texture_filter: crate::shading::TextureFilter::Nearest,
             course_refraction: false,
-            traversal: crate::accel::Traversal::Single,
+            traversal: crate::accel::Traversal::Bundle,
             mistakes: crate::mistakes::Mistakes::NONE,
         }
     }

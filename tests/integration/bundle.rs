@@ -87,6 +87,7 @@ fn stats_count_bundles_and_rays_alike() {
     let mut scene = scene("scenes/teapot.json");
     scene.camera.update_size(64, 48);
     let mut s = scene.render.clone();
+    s.traversal = Traversal::Single;
     let single = render(&scene, &s, true, None).stats.unwrap();
     s.traversal = Traversal::Bundle;
     let bundle = render(&scene, &s, true, None).stats.unwrap();

@@ -462,17 +462,22 @@ fn pixel_storyboard_has_one_frame_per_event_of_the_ray_tree() {
 #[test]
 fn cost_aov_counts_what_stats_count() {
     // The cost AOV and `--stats` watch the same tracer: per pixel, the same work, including
-    // the faces and BVH nodes inside meshes (the teapot).
-    for (file, w, h) in [
-        ("scenes/mirrors.json", 48, 30),
-        ("scenes/teapot.json", 64, 48),
+    // the faces and BVH nodes inside meshes (the teapot), single rays or bundles (each
+    // ray's share of its bundle's work).
+    use rtlab::accel::Traversal;
+    for (file, w, h, traversal) in [
+        ("scenes/mirrors.json", 48, 30, Traversal::Single),
+        ("scenes/mirrors.json", 48, 30, Traversal::Bundle),
+        ("scenes/teapot.json", 64, 48, Traversal::Single),
+        ("scenes/teapot.json", 64, 48, Traversal::Bundle),
     ] {
-        let scene = small(file, w, h);
+        let mut scene = small(file, w, h);
+        scene.render.traversal = traversal;
         let stats = render(&scene, &scene.render, true, None).stats.unwrap();
         let samples = trace_aov_samples(&scene, &scene.render);
         for (i, px) in samples.pixels.iter().enumerate() {
             let cost: u64 = px.iter().map(|s| s.1.cost).sum();
-            assert_eq!(cost, stats.cost[i], "{file} pixel {i}");
+            assert_eq!(cost, stats.cost[i], "{file} {traversal:?} pixel {i}");
             for (_, s) in px {
                 assert!(s.ray_depth <= scene.render.max_depth);
             }
