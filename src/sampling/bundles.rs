@@ -3,7 +3,7 @@
 //! ([`crate::accel::Accel::closest_bundle_into`]). Only the closest hits are found this way;
 //! the tracer then shades each sample as usual, from its hit ([`crate::trace::trace_camera`]).
 
-use super::sampler::planned_films_into;
+use super::sampler::{only_centres, pixel_centre, planned_films_into};
 use super::tiles::Tile;
 use crate::accel::{BundleCost, BUNDLE};
 use crate::math::Ray;
@@ -42,6 +42,13 @@ impl TilePlan {
     /// The tile's samples, or `None` when they are not known before tracing (the adaptive
     /// sampler decides from what it sees): those pixels go alone.
     pub fn new(settings: &RenderSettings, width: u32, height: u32, tile: &Tile) -> Option<Self> {
+        if only_centres(settings) {
+            // The common case, without asking pixel by pixel.
+            return Some(TilePlan {
+                films: tile.pixels().map(|(x, y)| pixel_centre(x, y)).collect(),
+                starts: (0..=tile.len() as u32).collect(),
+            });
+        }
         let mut films: Vec<DVec2> = Vec::with_capacity(tile.len());
         let mut starts: Vec<u32> = Vec::with_capacity(tile.len() + 1);
         starts.push(0);

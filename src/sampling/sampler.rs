@@ -65,6 +65,17 @@ fn centre(x: u32, y: u32) -> DVec2 {
     DVec2::new(x as f64, y as f64) + DVec2::splat(0.5)
 }
 
+/// Does every pixel trace exactly one sample, at its centre ([`planned_films_into`] under
+/// the centre sampler with no subsampling)? Then pixel (x, y)'s film is `centre(x, y)`.
+pub fn only_centres(settings: &RenderSettings) -> bool {
+    settings.sampler == SamplerKind::Center && settings.subsample <= 1
+}
+
+/// Pixel (x, y)'s centre on the film.
+pub fn pixel_centre(x: u32, y: u32) -> DVec2 {
+    centre(x, y)
+}
+
 // ANCHOR: samplers
 /// The film positions of the fixed sampling patterns for pixel (x, y), in sample-index order.
 /// Random positions come from (seed, pixel, sample index) alone. `Corners` lists the centre
