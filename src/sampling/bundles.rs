@@ -102,6 +102,7 @@ impl TilePlan {
 /// `trace(l, (x, y), k, camera)` (the tile's pixel `l`, at (x, y), its sample `k`), which
 /// shades them with the one tracer. `block_done(pixels)` follows each block; a cancelled
 /// render (`settings.cancel`) stops before the next block.
+#[inline(never)] // once per tile; and a profiler sees it whole
 pub fn trace_bundled(
     scene: &Scene,
     settings: &RenderSettings,

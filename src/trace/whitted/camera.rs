@@ -55,7 +55,9 @@ pub struct Found<'h> {
 }
 
 /// The camera ray of sample `index` at `film` of pixel (`px`, `py`); its random numbers (lens,
-/// then area lights) come from (seed, pixel, sample index) alone.
+/// then area lights) come from (seed, pixel, sample index) alone. (Inlined: made where the
+/// caller keeps it, not returned and copied.)
+#[inline]
 pub fn camera_ray(
     scene: &Scene,
     settings: &RenderSettings,
