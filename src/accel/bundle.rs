@@ -10,9 +10,9 @@
 //! 2. each box that passes gets the **lane test**: the box against all sixteen rays in one
 //!    pass over the lanes, which gives exactly the verdict each ray's own slab test gives.
 //!
-//! A child goes on the stack with the rays that enter it and the interval test's entry t (a
-//! lower bound for all of them), so rays that have since found a closer hit drop out when it
-//! comes off. A leaf's primitives are tested against the rays that reached it by the
+//! A child goes on the stack with the rays that enter it and the earliest of their entry t's
+//! (from the lane test), so rays that have since found a closer hit drop out when it comes
+//! off. A leaf's primitives are tested against the rays that reached it by the
 //! caller's exact f64 routine ([`BundleLeaf`]); which primitive a ray hits, and at what t, is
 //! exactly what the single-ray walk ([`Bvh::closest`]) finds, as long as the caller breaks
 //! ties the same way (closest t, then lowest slot: order-free). When only a few rays are left
@@ -289,9 +289,9 @@ pub trait BundleAnyLeaf {
     fn test(&mut self, k: usize, rays: u32) -> u32;
 }
 
-/// A child waiting on the bundle's stack: which rays entered it, and the interval test's
-/// entry t, a lower bound for each of them (to skip the rays that found a closer hit since
-/// it was pushed).
+/// A child waiting on the bundle's stack: which rays entered it, and the earliest of their
+/// entry t's (the lane test's), a lower bound for each of them (to skip the rays that found
+/// a closer hit since it was pushed).
 #[derive(Clone, Copy)]
 struct Pending {
     child: u32,
@@ -314,7 +314,7 @@ impl Bvh {
     // ANCHOR: closest_bundle
     /// Closest hits of a bundle (bit i of `active`: ray i takes part). `t_max[i]` is ray
     /// i's best t so far; `leaf` tests primitives and lowers it. The children of an opened
-    /// node are visited nearest first by the interval test's entry.
+    /// node are visited nearest first, by the earliest entry among the rays that enter them.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     pub fn closest_bundle<W: Wide, L: BundleLeaf>(
@@ -342,6 +342,7 @@ impl Bvh {
     }
     // ANCHOR_END: closest_bundle
 
+    // ANCHOR: bundle_walk
     /// [`Bvh::closest_bundle`] for a coherent bundle.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
@@ -423,6 +424,7 @@ impl Bvh {
             }
         }
     }
+    // ANCHOR_END: bundle_walk
 
     /// Each ray in `rays` walks from `start` alone, with the single-ray walk.
     #[allow(clippy::too_many_arguments)]
