@@ -173,21 +173,10 @@ impl<'r> RayBundle<'r> {
     /// Ray i's own slab-test form (as [`RayBox::new`] gives it).
     #[inline(always)]
     fn ray_box(&self, i: usize) -> RayBox {
-        let mut r = RayBox {
-            origin_in: [0.0; 3],
-            origin_out: [0.0; 3],
-            inv: [0.0; 3],
-            neg: [false; 3],
-        };
-        for k in 0..3 {
+        RayBox::from_axes(|k| {
             let inv = self.inv[k].0[i];
-            let (below, above) = (self.below[k].0[i], self.above[k].0[i]);
-            r.neg[k] = inv < 0.0;
-            r.inv[k] = inv;
-            r.origin_in[k] = if r.neg[k] { below } else { above };
-            r.origin_out[k] = if r.neg[k] { above } else { below };
-        }
-        r
+            (inv, inv < 0.0, (self.below[k].0[i], self.above[k].0[i]))
+        })
     }
 
     // ANCHOR: interval_test

@@ -252,7 +252,7 @@ impl Accel {
         best: &mut [Option<(usize, LocalHit)>; BUNDLE],
     ) {
         *best = [None; BUNDLE];
-        isa::run(SceneClosest {
+        isa::run(ObjectLeaf {
             accel: self,
             objects,
             rays,
@@ -392,7 +392,7 @@ impl Accel {
         t_max: &[f64; BUNDLE],
         cost: &mut BundleCost,
     ) -> u32 {
-        isa::run(SceneAny {
+        isa::run(AnyObjectLeaf {
             accel: self,
             objects,
             rays,
@@ -403,52 +403,37 @@ impl Accel {
     }
 }
 
-/// [`Accel::closest_bundle`]'s work, compiled at each SIMD width ([`isa::run`]).
-struct SceneClosest<'a> {
-    accel: &'a Accel,
-    objects: &'a [Object],
-    rays: &'a [Ray],
-    t_min: f64,
-    cost: &'a mut BundleCost,
-    best: &'a mut [Option<(usize, LocalHit)>; BUNDLE],
-}
-
-impl Kernel for SceneClosest<'_> {
+/// [`Accel::closest_bundle`]'s work, compiled at each SIMD width ([`isa::run`]): the
+/// objects outside the BVH, then the walk, with the request itself as the walk's leaves.
+impl Kernel for ObjectLeaf<'_> {
     type Output = ();
     #[inline(always)]
-    fn run<W: isa::Wide>(self, w: W) {
-        let SceneClosest {
-            accel,
-            objects,
-            rays,
-            t_min,
-            cost,
-            best,
-        } = self;
+    fn run<W: isa::Wide>(mut self, w: W) {
+        let (accel, rays, t_min) = (self.accel, self.rays, self.t_min);
         let all = bundle_mask(rays);
         let mut t_max = [f64::INFINITY; BUNDLE];
         for &i in &accel.unbounded {
-            test_object_bundle(objects, i, rays, all, t_min, &mut t_max, best, cost);
+            test_object_bundle(
+                self.objects,
+                i,
+                rays,
+                all,
+                t_min,
+                &mut t_max,
+                self.best,
+                self.cost,
+            );
         }
         if accel.bvh.nodes.is_empty() {
             return;
         }
         let b = RayBundle::new(rays);
         let mut work = BundleWork::default();
-        let mut leaf = ObjectLeaf {
-            accel,
-            objects,
-            rays,
-            t_min,
-            best,
-            cost,
-        };
         accel
             .bvh
-            .closest_bundle(w, &b, all, t_min, &mut t_max, &mut work, &mut leaf);
-        let cost = leaf.cost;
-        cost.opened += work.opened;
-        for (n, w) in cost.nodes.iter_mut().zip(work.ray_nodes) {
+            .closest_bundle(w, &b, all, t_min, &mut t_max, &mut work, &mut self);
+        self.cost.opened += work.opened;
+        for (n, w) in self.cost.nodes.iter_mut().zip(work.ray_nodes) {
             *n += w;
         }
     }
@@ -481,50 +466,28 @@ impl BundleLeaf for ObjectLeaf<'_> {
     }
 }
 
-/// [`Accel::occluded_bundle`]'s work, compiled at each SIMD width.
-struct SceneAny<'a> {
-    accel: &'a Accel,
-    objects: &'a [Object],
-    rays: &'a [Ray],
-    t_min: f64,
-    t_max: &'a [f64; BUNDLE],
-    cost: &'a mut BundleCost,
-}
-
-impl Kernel for SceneAny<'_> {
+/// [`Accel::occluded_bundle`]'s work, compiled at each SIMD width: the objects outside the
+/// BVH, then the walk, with the request itself as the walk's leaves.
+impl Kernel for AnyObjectLeaf<'_> {
     type Output = u32;
     #[inline(always)]
-    fn run<W: isa::Wide>(self, w: W) -> u32 {
-        let SceneAny {
-            accel,
-            objects,
-            rays,
-            t_min,
-            t_max,
-            cost,
-        } = self;
+    fn run<W: isa::Wide>(mut self, w: W) -> u32 {
+        let (accel, rays, t_min, t_max) = (self.accel, self.rays, self.t_min, self.t_max);
         let all = bundle_mask(rays);
         let mut blocked = 0u32;
         for &i in &accel.unbounded {
-            blocked |= occluded_object_bundle(objects, i, rays, all & !blocked, t_min, t_max, cost);
+            let mask = all & !blocked;
+            blocked |= occluded_object_bundle(self.objects, i, rays, mask, t_min, t_max, self.cost);
         }
         if accel.bvh.nodes.is_empty() {
             return blocked;
         }
         let b = RayBundle::new(rays);
         let mut work = BundleWork::default();
-        let mut leaf = AnyObjectLeaf {
-            accel,
-            objects,
-            rays,
-            t_min,
-            t_max,
-            cost,
-        };
         blocked |= accel
             .bvh
-            .any_bundle(w, &b, all & !blocked, t_min, t_max, &mut work, &mut leaf);
-        leaf.cost.opened += work.opened;
+            .any_bundle(w, &b, all & !blocked, t_min, t_max, &mut work, &mut self);
+        self.cost.opened += work.opened;
         blocked
     }
 }
@@ -570,14 +533,8 @@ fn occluded_object_bundle(
         return 0;
     }
     let object = &objects[i];
-    let n = rays.len();
-    let moved;
-    let local = if object.transform.identity {
-        rays
-    } else {
-        moved = to_object(object, rays, mask);
-        &moved[..n]
-    };
+    let mut moved = None;
+    let local = in_object(object, rays, mask, &mut moved);
     if let crate::shapes::Shape::Mesh(m) = &object.shape {
         let mut work = BundleWork::default();
         let blocked = m.occluded_bundle(local, mask, t_min, t_max, &mut work);
@@ -609,14 +566,8 @@ fn test_object_bundle(
     cost: &mut BundleCost,
 ) {
     let object = &objects[i];
-    let n = rays.len();
-    let moved;
-    let local = if object.transform.identity {
-        rays
-    } else {
-        moved = to_object(object, rays, mask);
-        &moved[..n]
-    };
+    let mut moved = None;
+    let local = in_object(object, rays, mask, &mut moved);
     let mut hits: [Option<LocalHit>; BUNDLE] = [None; BUNDLE];
     match &object.shape {
         crate::shapes::Shape::Mesh(m) => {
@@ -644,6 +595,22 @@ fn test_object_bundle(
                 best[r] = Some((i, h));
             }
         }
+    }
+}
+
+/// The bundle's rays as `object` sees them: `rays` themselves when it is not moved (the
+/// common case of a mesh placed as it was modelled), else [`to_object`]'s, kept in `moved`.
+#[inline(always)]
+fn in_object<'r>(
+    object: &Object,
+    rays: &'r [Ray],
+    mask: u32,
+    moved: &'r mut Option<[Ray; BUNDLE]>,
+) -> &'r [Ray] {
+    if object.transform.identity {
+        rays
+    } else {
+        &moved.insert(to_object(object, rays, mask))[..rays.len()]
     }
 }
 

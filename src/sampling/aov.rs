@@ -328,6 +328,9 @@ impl Recorder for AovRecorder {
 }
 
 /// Every sample of every pixel, row-major, with its film position.
+/// One pixel's samples: where each was on the film, and what it saw.
+type SamplesOf = Vec<(DVec2, AovSample)>;
+
 pub struct AovSamples {
     pub width: u32,
     pub height: u32,
@@ -341,14 +344,14 @@ pub struct AovSamples {
 pub fn trace_aov_samples(scene: &Scene, settings: &RenderSettings) -> AovSamples {
     let (w, h) = (scene.camera.width, scene.camera.height);
     let bundled = settings.traversal == Traversal::Bundle && !settings.mistakes.changes_hits();
-    let traced: Vec<(Tile, Vec<Vec<(DVec2, AovSample)>>)> = tiles(w, h)
+    let traced: Vec<(Tile, Vec<SamplesOf>)> = tiles(w, h)
         .into_par_iter()
         .map(|tile| {
             let mut rec = AovRecorder::default();
             let plan = TilePlan::of(&tile, |x, y| {
                 pixel_samples(settings.sampler, settings.spp, settings.seed, x, y)
             });
-            let mut out: Vec<Vec<(DVec2, AovSample)>> = vec![Vec::new(); tile.len()];
+            let mut out: Vec<SamplesOf> = vec![Vec::new(); tile.len()];
             if bundled {
                 let mut tally = BundleTally::default();
                 let trace = |l: usize, _, _, camera: &mut CameraRay, found: Found| {

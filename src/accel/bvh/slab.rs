@@ -84,6 +84,15 @@ impl RayBox {
     pub(in crate::accel) fn new(ray: &Ray) -> RayBox {
         let inv = ray.dir.recip().to_array();
         let o = ray.origin.to_array();
+        RayBox::from_axes(|k| (inv[k] as f32, inv[k] < 0.0, bracket(o[k])))
+    }
+
+    /// The slab-test form from what `axis(k)` gives for each axis: the reciprocal
+    /// direction in `f32`, whether the ray goes towards −k, and the bracketed origin (below,
+    /// above). A ray going towards −k enters through the max plane, so its entry subtracts
+    /// the origin's upper bound.
+    #[inline(always)]
+    pub(in crate::accel) fn from_axes(axis: impl Fn(usize) -> (f32, bool, (f32, f32))) -> RayBox {
         let mut r = RayBox {
             origin_in: [0.0; 3],
             origin_out: [0.0; 3],
@@ -91,11 +100,10 @@ impl RayBox {
             neg: [false; 3],
         };
         for k in 0..3 {
-            let neg = inv[k] < 0.0;
-            let (below, above) = bracket(o[k]);
+            let (inv, neg, (below, above)) = axis(k);
             r.origin_in[k] = if neg { below } else { above };
             r.origin_out[k] = if neg { above } else { below };
-            r.inv[k] = inv[k] as f32;
+            r.inv[k] = inv;
             r.neg[k] = neg;
         }
         r
