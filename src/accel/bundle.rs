@@ -37,7 +37,8 @@ pub const BUNDLE: usize = LANES;
 pub const FEW: u32 = 2;
 
 /// What a bundle traversal did: nodes opened (once per bundle), and per ray the nodes it
-/// was slab-tested at (what the single-ray walk would call the nodes it visited).
+/// was slab-tested at (what the single-ray walk would call the nodes it visited; counted by
+/// the closest-hit walk, for `--stats` and the `cost` AOV, which count camera rays).
 #[derive(Debug, Clone, Copy, Default)]
 pub struct BundleWork {
     pub opened: u32,
@@ -181,7 +182,7 @@ impl<'r> RayBundle<'r> {
 
     // ANCHOR: interval_test
     /// The interval test: the node's four boxes against the whole bundle. Returns the lanes
-    /// some ray may enter, and per lane a t no later than any ray's entry.
+    /// (boxes) some ray may enter: a box left out is missed by every ray.
     ///
     /// Along an axis with a positive direction a ray enters at (lo − o)·(1/d). Over the
     /// bundle, (lo − o) is smallest for the largest origin, and the product of that fixed
@@ -189,7 +190,7 @@ impl<'r> RayBundle<'r> {
     /// is monotonic, so the same `f32` operations on these bounds give a t no later than the
     /// one each ray's own test computes, and never cull a box a ray's own test keeps.
     #[inline(always)]
-    fn interval_enter(&self, nd: &Node, t_min: f32) -> (u32, [f32; WIDTH]) {
+    fn interval_enter(&self, nd: &Node, t_min: f32) -> u32 {
         let mut near = FW::splat(t_min);
         let mut far = FW::splat(f32::INFINITY);
         for k in 0..3 {
@@ -202,7 +203,7 @@ impl<'r> RayBundle<'r> {
             far = (b * lo).max_or(b * hi).min_or(far);
         }
         let near = near * FW::splat(SHRINK);
-        (near.le_mask(far * FW::splat(GROW)), near.0)
+        near.le_mask(far * FW::splat(GROW))
     }
     // ANCHOR_END: interval_test
 
@@ -353,7 +354,7 @@ impl Bvh {
             work.opened += 1;
             count(&mut work.ray_nodes, mask);
             let nd = &self.nodes[node];
-            let (lanes, _) = b.interval_enter(nd, t_min32);
+            let lanes = b.interval_enter(nd, t_min32);
             // The children some ray enters, nearest last, to be pushed in that order.
             let mut order = [(0.0f32, 0usize, 0u32); WIDTH];
             let mut n = 0;
@@ -514,9 +515,8 @@ impl Bvh {
                 blocked |= rays & !open;
             } else {
                 work.opened += 1;
-                count(&mut work.ray_nodes, rays);
                 let nd = &self.nodes[child as usize];
-                let (lanes, _) = b.interval_enter(nd, t_min32);
+                let lanes = b.interval_enter(nd, t_min32);
                 for lane in 0..WIDTH {
                     if lanes >> lane & 1 == 1 {
                         let t_max = w.load(&t_max32);

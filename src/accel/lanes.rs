@@ -3,7 +3,7 @@
 //! ([`super::isa::Wide`] does the arithmetic at the processor's SIMD width). And four lanes,
 //! the four boxes of a node, for one ray's slab test.
 
-use super::bvh::WIDTH;
+use super::bvh::{up, WIDTH};
 
 /// Lanes in a bundle: a 4×4 block of pixels.
 pub const LANES: usize = 16;
@@ -27,12 +27,7 @@ impl F32s {
     /// Each lane of `t` rounded up to `f32` (the smallest `f32` not below it).
     #[inline(always)]
     pub fn up(t: &[f64; LANES]) -> F32s {
-        let mut out = [0.0; LANES];
-        for i in 0..LANES {
-            let f = t[i] as f32;
-            out[i] = if (f as f64) < t[i] { f.next_up() } else { f };
-        }
-        F32s(out)
+        F32s(t.map(up))
     }
 
     /// Bit i set where lane i is below zero (−0 is not; −∞ is).

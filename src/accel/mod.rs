@@ -614,22 +614,19 @@ fn in_object<'r>(
     }
 }
 
-/// A bundle's rays in `object`'s space: those in `mask` taken there, the others left as
-/// they are (placeholders in the lanes the mask leaves out, never read), so a bundle that
-/// reaches an object with few of its rays transforms only those.
-/// (A plain loop over the mask's bits, inlined: built with `array::from_fn` and left to the
-/// compiler, whether the 16 rays were copied out depended on how the crate fell into
-/// codegen units.)
+/// A bundle's rays in `object`'s space: those in `mask` taken there, every other lane
+/// filled with the first of them (never read as a ray of its own, and so no lane the mask
+/// leaves out makes the bundle look less coherent than the rays it carries, or hides that
+/// they share an origin). A bundle that reaches an object with few of its rays transforms
+/// only those. (A plain loop over the mask's bits, inlined: built with `array::from_fn` and
+/// left to the compiler, whether the 16 rays were copied out depended on how the crate fell
+/// into codegen units.)
 #[inline(always)]
 fn to_object(object: &Object, rays: &[Ray], mask: u32) -> [Ray; BUNDLE] {
-    let n = rays.len();
-    let mut out = [rays[n - 1]; BUNDLE];
-    out[..n].copy_from_slice(rays);
-    let mut m = mask;
-    while m != 0 {
-        let r = m.trailing_zeros() as usize;
-        m &= m - 1;
-        out[r] = object.transform.ray_to_object(&rays[r.min(n - 1)]);
+    let first = (mask.trailing_zeros() as usize).min(rays.len() - 1);
+    let mut out = [object.transform.ray_to_object(&rays[first]); BUNDLE];
+    for r in Bits(mask) {
+        out[r] = object.transform.ray_to_object(&rays[r]);
     }
     out
 }

@@ -287,6 +287,7 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
                 "count": b.bundles,
                 "nodes_opened": b.opened,
                 "nodes_opened_per_bundle": per_bundle,
+                "simd": simd_lanes(),
             })
         });
         if format == "json" {
@@ -315,9 +316,11 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
             let r = stats.rays;
             let bundle_line = if b.bundles > 0 {
                 format!(
-                    "camera rays in {} bundles of up to {BUNDLE}: {:.1} nodes opened per bundle \
-                     (each once for all its rays)\n",
-                    b.bundles, per_bundle
+                    "camera rays in {} bundles of up to {BUNDLE} ({} lanes): {:.1} nodes opened \
+                     per bundle (each once for all its rays)\n",
+                    b.bundles,
+                    simd_lanes(),
+                    per_bundle
                 )
             } else {
                 String::new()
@@ -356,4 +359,9 @@ fn explain_command(args: &Args, x: u32, y: u32, k: u32) -> String {
         super::shell_word(&args.scene.display().to_string()),
         args.render.to_flags()
     )
+}
+
+/// The SIMD lanes bundles ran on (`portable`, `avx2`, `avx512`: [`crate::accel::isa::level`]).
+fn simd_lanes() -> &'static str {
+    crate::accel::isa::level().name()
 }

@@ -3,7 +3,7 @@
 //! ([`crate::accel::Accel::closest_bundle_into`]). Only the closest hits are found this way;
 //! the tracer then shades each sample as usual, from its hit ([`crate::trace::trace_camera`]).
 
-use super::sampler::{only_centres, pixel_centre, planned_films_into};
+use super::sampler::{centre, only_centres, planned_films_into};
 use super::tiles::Tile;
 use crate::accel::{BundleCost, BUNDLE};
 use crate::math::Ray;
@@ -45,7 +45,7 @@ impl TilePlan {
         if only_centres(settings) {
             // The common case, without asking pixel by pixel.
             return Some(TilePlan {
-                films: tile.pixels().map(|(x, y)| pixel_centre(x, y)).collect(),
+                films: tile.pixels().map(|(x, y)| centre(x, y)).collect(),
                 starts: (0..=tile.len() as u32).collect(),
             });
         }

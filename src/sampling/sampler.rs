@@ -61,7 +61,7 @@ impl PixelSample {
 }
 
 /// The centre of pixel (x, y) on the film: the centre sampler's one sample.
-fn centre(x: u32, y: u32) -> DVec2 {
+pub(super) fn centre(x: u32, y: u32) -> DVec2 {
     DVec2::new(x as f64, y as f64) + DVec2::splat(0.5)
 }
 
@@ -69,11 +69,6 @@ fn centre(x: u32, y: u32) -> DVec2 {
 /// the centre sampler with no subsampling)? Then pixel (x, y)'s film is `centre(x, y)`.
 pub fn only_centres(settings: &RenderSettings) -> bool {
     settings.sampler == SamplerKind::Center && settings.subsample <= 1
-}
-
-/// Pixel (x, y)'s centre on the film.
-pub fn pixel_centre(x: u32, y: u32) -> DVec2 {
-    centre(x, y)
 }
 
 // ANCHOR: samplers

@@ -1,9 +1,12 @@
 use super::triangle::interpolated_hit;
 use super::{
-    cramer_hit_prepared, Aabb, Barycentric, FaceFrom, LocalHit, Observer, Prepared, Triangle,
+    cramer_hit_prepared, Aabb, Barycentric, FaceFrom, LocalHit, Numerators, Observer, Prepared,
+    Triangle,
 };
 use crate::accel::isa::{self, Kernel, Wide};
-use crate::accel::{count, Bits, BundleAnyLeaf, BundleLeaf, BundleWork, Bvh, RayBundle, BUNDLE};
+use crate::accel::{
+    count, Bits, BundleAnyLeaf, BundleLeaf, BundleWork, Bvh, F64s, RayBundle, BUNDLE,
+};
 use crate::math::Ray;
 use glam::{DVec2, DVec3};
 
@@ -148,7 +151,7 @@ impl Mesh {
         let test = |k: usize, t_max: f64| {
             tested += 1;
             let b = cramer_hit_prepared(&self.packed[k].prepared(), ray, t_min, t_max)?;
-            (b.t < t_max || k < best_k).then(|| {
+            face_wins(b.t, k, t_max, best_k).then(|| {
                 best_k = k;
                 (b.t, b)
             })
@@ -374,27 +377,36 @@ impl<W: Wide> Faces<'_, '_, W> {
         }
         let face = FaceFrom::new(&p, b.rays[0].origin);
         let m = |i: usize| -DVec3::new(b.dir[0].0[i], b.dir[1].0[i], b.dir[2].0[i]);
-        let inside = if rays.count_ones() >= W::LEVEL.lanes_from() {
-            self.inside_lanes(&face) & rays
-        } else {
-            let mut some = 0;
-            for i in Bits(rays) {
-                some |= (face.numerators(m(i)).inside() as u32) << i;
+        if rays.count_ones() >= W::LEVEL.lanes_from() {
+            let (inside, [det, beta, gamma]) = self.numerators_lanes(&face);
+            for i in Bits(inside & rays) {
+                let nums = Numerators {
+                    determinant: det.0[i],
+                    beta: beta.0[i],
+                    gamma: gamma.0[i],
+                };
+                if let Some(w) = face.solve(&nums, self.t_min, t_max[i]) {
+                    hit(i, w, t_max);
+                }
             }
-            some
-        };
-        for i in Bits(inside) {
-            if let Some(w) = face.solve(&face.numerators(m(i)), self.t_min, t_max[i]) {
-                hit(i, w, t_max);
+        } else {
+            for i in Bits(rays) {
+                let nums = face.numerators(m(i));
+                if !nums.inside() {
+                    continue;
+                }
+                if let Some(w) = face.solve(&nums, self.t_min, t_max[i]) {
+                    hit(i, w, t_max);
+                }
             }
         }
     }
 
-    /// [`Numerators::inside`] for all sixteen rays at once: the same products and sums in
-    /// the same order as [`FaceFrom::numerators`] (the dot products of glam's `DVec3`), lane
-    /// by lane.
+    /// [`FaceFrom::numerators`] for all sixteen rays at once (the same products and sums in
+    /// the same order: the dot products of glam's `DVec3`, lane by lane), and the rays for
+    /// which [`Numerators::inside`] holds.
     #[inline(always)]
-    fn inside_lanes(&self, face: &FaceFrom) -> u32 {
+    fn numerators_lanes(&self, face: &FaceFrom) -> (u32, [F64s; 3]) {
         let (w, b) = (self.w, self.b);
         let m = [
             w.neg_d(w.load_d(&b.dir[0])),
@@ -408,8 +420,9 @@ impl<W: Wide> Faces<'_, '_, W> {
         let (inf, minus_inf) = (w.splat_d(f64::INFINITY), w.splat_d(f64::NEG_INFINITY));
         let positive = w.lt_d(zero, det) & w.lt_d(det, inf);
         let negative = w.lt_d(det, zero) & w.lt_d(minus_inf, det);
-        (positive & w.le_d(zero, beta) & w.le_d(zero, gamma))
-            | (negative & w.le_d(beta, zero) & w.le_d(gamma, zero))
+        let inside = (positive & w.le_d(zero, beta) & w.le_d(zero, gamma))
+            | (negative & w.le_d(beta, zero) & w.le_d(gamma, zero));
+        (inside, [w.store_d(det), w.store_d(beta), w.store_d(gamma)])
     }
 }
 
@@ -419,6 +432,15 @@ impl<W: Wide> Faces<'_, '_, W> {
 fn dot_lanes<W: Wide>(w: W, m: &[W::D; 3], v: DVec3) -> W::D {
     let xy = w.add_d(w.mul_d(m[0], w.splat_d(v.x)), w.mul_d(m[1], w.splat_d(v.y)));
     w.add_d(xy, w.mul_d(m[2], w.splat_d(v.z)))
+}
+
+/// Does face slot `k`, hit at `t` (no farther than `t_max`, the best t so far), take the
+/// place of the best face so far, slot `best_k` (`usize::MAX`: none yet)? The closer one
+/// wins; at an equal t (a ray through an edge two faces share) the lower slot, so the order
+/// the faces are tested in (a single ray's or a bundle's) does not change the answer.
+#[inline(always)]
+fn face_wins(t: f64, k: usize, t_max: f64, best_k: usize) -> bool {
+    t < t_max || k < best_k
 }
 
 /// The closest-hit leaves: each ray's best face so far (closest t, then lowest slot, as
@@ -436,8 +458,8 @@ impl<W: Wide, S: FnMut(usize, usize, u32)> BundleLeaf for ClosestLeaf<'_, '_, W,
         count(self.tests, rays);
         let best = &mut self.best;
         self.faces.hits(k, rays, t_max, |i, w, t_max| {
-            let lower = best[i].as_ref().is_none_or(|(bk, _)| k < *bk);
-            if w.t < t_max[i] || lower {
+            let best_k = best[i].as_ref().map_or(usize::MAX, |(bk, _)| *bk);
+            if face_wins(w.t, k, t_max[i], best_k) {
                 t_max[i] = w.t;
                 best[i] = Some((k, w));
             }

@@ -274,3 +274,27 @@ fn every_simd_level_writes_the_same_image() {
         }
     }
 }
+
+/// `--stats json` says which lanes the bundles ran on, and `RTLAB_SIMD` caps it.
+#[test]
+fn stats_name_the_simd_level_the_bundles_ran_on() {
+    for (cap, want) in [("base", "portable"), ("avx2", "avx2")] {
+        let out = tmp(&format!("simd-stats-{cap}.png"));
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_rtlab"))
+            .current_dir(path("."))
+            .env("RTLAB_SIMD", cap)
+            .args(["render", "scenes/teapot.json", "-o", out.to_str().unwrap()])
+            .args(["--width", "32", "--height", "24", "--stats", "json"])
+            .output()
+            .expect("rtlab runs");
+        assert!(o.status.success(), "{}", stderr(&o));
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        assert_eq!(v["traversal"], "bundle");
+        let simd = v["bundles"]["simd"].as_str().unwrap();
+        // A processor without AVX2 runs the portable lanes whatever the cap allows.
+        assert!(simd == want || simd == "portable", "{cap}: {simd}");
+        if cap == "base" {
+            assert_eq!(simd, "portable");
+        }
+    }
+}

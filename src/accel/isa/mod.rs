@@ -137,7 +137,7 @@ impl Level {
     /// Its name, as `--stats` prints it.
     pub fn name(self) -> &'static str {
         match self {
-            Level::Base => "sse2",
+            Level::Base => "portable",
             Level::Avx2 => "avx2",
             Level::Avx512 => "avx512",
         }
