@@ -138,8 +138,15 @@ impl Camera {
         self.generate_as(film, lens, Mistakes::NONE)
     }
 
+    /// The ray of [`Camera::generate_as`] alone: what `render` traces, without keeping the
+    /// stages (the same code, inlined here, with the stages nobody reads left out).
+    pub fn ray_as(&self, film: DVec2, lens: Option<DVec2>, mistakes: Mistakes) -> Ray {
+        self.generate_as(film, lens, mistakes).0
+    }
+
     // ANCHOR: generate
     /// [`Camera::generate`] under the catalogue's camera mistakes (none: the lecture's).
+    #[inline(always)] // into `ray_as`, whose caller needs only the ray
     pub fn generate_as(
         &self,
         film: DVec2,

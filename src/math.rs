@@ -117,7 +117,11 @@ impl Transform {
 /// Counter-based random numbers: a sample's stream depends only on the key it was created
 /// with (seed, pixel, sample index, purpose), never on thread scheduling.
 #[derive(Debug, Clone)]
-pub struct Rng(u64);
+pub struct Rng {
+    state: u64,
+    /// A key not hashed yet ([`Rng::keyed`]): hashed at the first draw.
+    key: Option<[u64; 4]>,
+}
 
 impl Rng {
     pub fn new(key: &[u64]) -> Rng {
@@ -125,12 +129,30 @@ impl Rng {
         for &k in key {
             h = splitmix(h ^ k);
         }
-        Rng(h)
+        Rng {
+            state: h,
+            key: None,
+        }
     }
+
+    /// [`Rng::new`] of a four-word key, hashed only if a number is ever drawn: a camera
+    /// ray's stream (seed, pixel, sample index) is made for every sample, and drawn from
+    /// only under depth of field or area lights.
+    #[inline]
+    pub fn keyed(key: [u64; 4]) -> Rng {
+        Rng {
+            state: 0,
+            key: Some(key),
+        }
+    }
+
     /// A uniform number in [0, 1).
     pub fn next_f64(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        (splitmix(self.0) >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+        if let Some(key) = self.key.take() {
+            self.state = Rng::new(&key).state;
+        }
+        self.state = self.state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        (splitmix(self.state) >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
     }
 }
 
@@ -158,6 +180,12 @@ mod tests {
             })
             .collect();
         assert_eq!(a, b);
+        // A key hashed late draws what it would have drawn hashed at once.
+        let mut late = Rng::keyed([1, 2, 3, 4]);
+        let mut now = Rng::new(&[1, 2, 3, 4]);
+        let (l, n): (Vec<f64>, Vec<f64>) =
+            (0..4).map(|_| (late.next_f64(), now.next_f64())).unzip();
+        assert_eq!(l, n);
         let mut r = Rng::new(&[7]);
         let mean = (0..10000).map(|_| r.next_f64()).sum::<f64>() / 10000.0;
         assert!((mean - 0.5).abs() < 0.02);

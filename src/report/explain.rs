@@ -8,7 +8,7 @@
 use crate::error::{Error, Result};
 use crate::sampling::{encode_as, sample_pixel, Filter};
 use crate::scene::Scene;
-use crate::trace::{trace_sample, RayNode, TreeRecorder};
+use crate::trace::{camera_ray, trace_camera, RayNode, TreeRecorder};
 use glam::{DVec2, DVec3};
 use serde::Serialize;
 use std::cell::RefCell;
@@ -53,13 +53,14 @@ pub fn explain(scene: &Scene, x: u32, y: u32) -> Explanation {
     let (color, weights) = crate::sampling::render_reconstruct(&filter, x, y, w, h, |qx, qy| {
         sample_pixel(s, w, h, qx, qy, |k, film| {
             let mut rec = TreeRecorder::new(scene);
-            let r = trace_sample(scene, s, qx, qy, k, film, &mut rec);
+            let mut camera = camera_ray(scene, s, qx, qy, k, film);
+            let r = trace_camera(scene, s, &mut camera, None, &mut rec);
             let color = if r.color.is_finite() {
                 r.color
             } else {
                 DVec3::ZERO
             };
-            let g = r.generation;
+            let g = camera.generation(scene, s);
             traced.borrow_mut().insert(
                 (qy, qx, k),
                 SampleNode {

@@ -392,7 +392,7 @@ fn aov_sample(
 ) -> (DVec2, AovSample) {
     rec.reset();
     trace_camera(scene, settings, camera, found, rec);
-    (camera.generation.film, rec.take())
+    (camera.film, rec.take())
 }
 
 /// Image-wide values the false colours are scaled by.

@@ -7,12 +7,12 @@ use crate::scene::{RenderSettings, Scene};
 use crate::trace::{RayKind, Recorder};
 use glam::{DVec2, DVec3};
 
-/// One traced sample: where it was on the film and what colour it brought back.
+/// One traced sample: where it was on the film and what colour it brought back. (How its
+/// camera ray was generated is [`CameraRay::generation`].)
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SampleResult {
     pub film: DVec2,
     pub color: DVec3,
-    pub generation: RayGeneration,
     /// Rays the sample traced, of every kind.
     pub rays: u64,
     /// The ray budget (`settings.max_rays`) cut the tree: some node ends with
@@ -35,13 +35,28 @@ pub fn trace_sample<R: Recorder>(
     trace_camera(scene, settings, &mut camera, None, rec)
 }
 
-/// A sample's camera ray, made but not yet traced: the ray, how it was generated, and the
-/// sample's random stream after the lens sample.
+/// A sample's camera ray, made but not yet traced: the ray, where it was on the film and the
+/// lens sample it was made from, and the sample's random stream after the lens sample. It is
+/// kept small (a block of them is made, walked and traced per bundle); how it was generated,
+/// stage by stage, is [`CameraRay::generation`].
 #[derive(Debug, Clone)]
 pub struct CameraRay {
     pub ray: Ray,
-    pub generation: RayGeneration,
+    pub film: DVec2,
+    pub lens: Option<DVec2>,
     pub rng: Rng,
+}
+
+impl CameraRay {
+    /// Every stage of this ray's generation (ndc, film point, world point, …), for `explain`:
+    /// the camera's one [`crate::camera::Camera::generate_as`] run again on the same film
+    /// position and lens sample, so the ray it ends in is this one.
+    pub fn generation(&self, scene: &Scene, settings: &RenderSettings) -> RayGeneration {
+        scene
+            .camera
+            .generate_as(self.film, self.lens, settings.mistakes)
+            .1
+    }
 }
 
 /// A camera ray's closest hit found in a bundle ([`crate::sampling::bundles`]): exactly what
@@ -66,12 +81,13 @@ pub fn camera_ray(
     index: u32,
     film: DVec2,
 ) -> CameraRay {
-    let mut rng = Rng::new(&[settings.seed, px as u64, py as u64, index as u64]);
+    let mut rng = Rng::keyed([settings.seed, px as u64, py as u64, index as u64]);
     let lens = scene.camera.lens_sample(settings.depth_of_field, &mut rng);
-    let (ray, generation) = scene.camera.generate_as(film, lens, settings.mistakes);
+    let ray = scene.camera.ray_as(film, lens, settings.mistakes);
     CameraRay {
         ray,
-        generation,
+        film,
+        lens,
         rng,
     }
 }
@@ -87,17 +103,12 @@ pub fn trace_camera<R: Recorder>(
     found: Option<Found>,
     rec: &mut R,
 ) -> SampleResult {
-    let CameraRay {
-        ray,
-        generation,
-        rng,
-    } = camera;
+    let CameraRay { ray, film, rng, .. } = camera;
     let tracer = Tracer::new(scene, settings);
     let color = tracer.trace_found(ray, RayKind::Camera, 0, DVec3::ONE, rng, rec, found);
     SampleResult {
-        film: generation.film,
+        film: *film,
         color,
-        generation: *generation,
         rays: tracer.budget.rays(),
         cut: tracer.budget.cut(),
     }
