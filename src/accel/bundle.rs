@@ -266,6 +266,11 @@ pub trait BundleLeaf {
     /// `t_max[i]` for each ray that hit it closer (and keeping the hit itself).
     fn test(&mut self, k: usize, rays: u32, t_max: &mut [f64; BUNDLE]);
 
+    /// Primitive slots `ks` will be tested soon: a leaf may start loading them
+    /// ([`Wide::prefetch`]).
+    #[inline(always)]
+    fn prefetch<W: Wide>(&self, _w: W, _ks: std::ops::Range<usize>) {}
+
     /// Does `seen` want to hear of every child the bundle tests (for figures)?
     const SEES: bool = false;
     /// Child `lane` of the opened node `node`, and the rays that enter it (0: culled).
@@ -379,6 +384,12 @@ impl Bvh {
                 }
             }
             for &(t_first, lane, rays) in &order[..n] {
+                let (child, count) = (nd.child[lane] as usize, nd.count[lane] as usize);
+                if count == 0 {
+                    w.prefetch(std::slice::from_ref(&self.nodes[child]));
+                } else {
+                    leaf.prefetch(w, child..child + count);
+                }
                 stack.push(Pending {
                     child: nd.child[lane],
                     count: nd.count[lane],

@@ -241,8 +241,8 @@ impl Accel {
         best
     }
 
-    /// [`Accel::closest_bundle`], the hits written into `best` (every lane set), which
-    /// saves copying sixteen hit records around.
+    /// [`Accel::closest_bundle`], the hits written into `best` (its first `rays.len()`
+    /// lanes, the others left as they were), which saves copying sixteen hit records around.
     pub fn closest_bundle_into(
         &self,
         objects: &[Object],
@@ -251,7 +251,7 @@ impl Accel {
         cost: &mut BundleCost,
         best: &mut [Option<(usize, LocalHit)>; BUNDLE],
     ) {
-        *best = [None; BUNDLE];
+        best[..rays.len()].fill(None);
         isa::run(ObjectLeaf {
             accel: self,
             objects,
@@ -568,12 +568,24 @@ fn test_object_bundle(
     let object = &objects[i];
     let mut moved = None;
     let local = in_object(object, rays, mask, &mut moved);
-    let mut hits: [Option<LocalHit>; BUNDLE] = [None; BUNDLE];
+    for r in Bits(mask) {
+        cost.tests[r] += 1;
+    }
+    // The rays' limits as the object's walk starts (`keep` lowers them as hits come).
+    let t = *t_max;
+    // Ray r's hit on the object, kept if it precedes r's best so far.
+    let mut keep = |r: usize, h: LocalHit| {
+        let key = best[r].as_ref().map(|(o, b)| (b.t, *o));
+        if precedes((h.t, i), key) {
+            t_max[r] = h.t;
+            best[r] = Some((i, h));
+        }
+    };
     match &object.shape {
         crate::shapes::Shape::Mesh(m) => {
             let mut work = BundleWork::default();
-            let (tests, t) = (&mut cost.tests, *t_max);
-            m.intersect_bundle(local, mask, t_min, t, &mut work, tests, &mut hits);
+            let tests = &mut cost.tests;
+            m.intersect_bundle_each(local, mask, t_min, t, &mut work, tests, |_, _, _| {}, keep);
             cost.opened += work.opened;
             for (c, w) in cost.nodes.iter_mut().zip(work.ray_nodes) {
                 *c += w;
@@ -582,17 +594,9 @@ fn test_object_bundle(
         shape => {
             for r in Bits(mask) {
                 let mut no = crate::shapes::NoObserver;
-                hits[r] = shape.intersect(&local[r], t_min, t_max[r], &mut no);
-            }
-        }
-    }
-    for r in Bits(mask) {
-        cost.tests[r] += 1;
-        if let Some(h) = hits[r] {
-            let key = best[r].as_ref().map(|(o, b)| (b.t, *o));
-            if precedes((h.t, i), key) {
-                t_max[r] = h.t;
-                best[r] = Some((i, h));
+                if let Some(h) = shape.intersect(&local[r], t_min, t[r], &mut no) {
+                    keep(r, h);
+                }
             }
         }
     }

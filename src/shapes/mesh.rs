@@ -241,6 +241,29 @@ impl Mesh {
         hits: &mut [Option<LocalHit>; BUNDLE],
         seen: impl FnMut(usize, usize, u32),
     ) {
+        // Rays past the bundle's end are not in it (as `RayBundle::all` says).
+        for i in Bits(active & ((1u64 << rays.len()) - 1) as u32) {
+            hits[i] = None;
+        }
+        let found = |i: usize, hit: LocalHit| hits[i] = Some(hit);
+        self.intersect_bundle_each(rays, active, t_min, t_max, work, tests, seen, found)
+    }
+
+    /// [`Mesh::intersect_bundle_seen`], each ray's hit handed to `found(i, hit)` (rays
+    /// that hit nothing are not): a caller that merges the hits into its own saves filling
+    /// and reading sixteen hit records.
+    #[allow(clippy::too_many_arguments)]
+    pub fn intersect_bundle_each(
+        &self,
+        rays: &[Ray],
+        active: u32,
+        t_min: f64,
+        t_max: [f64; BUNDLE],
+        work: &mut BundleWork,
+        tests: &mut [u32; BUNDLE],
+        seen: impl FnMut(usize, usize, u32),
+        found: impl FnMut(usize, LocalHit),
+    ) {
         isa::run(ClosestFaces {
             mesh: self,
             rays,
@@ -249,8 +272,8 @@ impl Mesh {
             t_max,
             work,
             tests,
-            hits,
             seen,
+            found,
         })
     }
 
@@ -466,6 +489,11 @@ impl<W: Wide, S: FnMut(usize, usize, u32)> BundleLeaf for ClosestLeaf<'_, '_, W,
         });
     }
 
+    #[inline(always)]
+    fn prefetch<V: Wide>(&self, w: V, ks: std::ops::Range<usize>) {
+        w.prefetch(&self.faces.mesh.packed[ks]);
+    }
+
     const SEES: bool = true;
     #[inline(always)]
     fn seen(&mut self, node: usize, lane: usize, rays: u32) {
@@ -492,7 +520,7 @@ impl<W: Wide> BundleAnyLeaf for AnyLeaf<'_, '_, W> {
 // ANCHOR_END: face_leaf
 
 /// [`Mesh::intersect_bundle_seen`]'s work, compiled at each SIMD width ([`isa::run`]).
-struct ClosestFaces<'a, 'r, S> {
+struct ClosestFaces<'a, 'r, S, F> {
     mesh: &'a Mesh,
     rays: &'r [Ray],
     active: u32,
@@ -500,11 +528,13 @@ struct ClosestFaces<'a, 'r, S> {
     t_max: [f64; BUNDLE],
     work: &'a mut BundleWork,
     tests: &'a mut [u32; BUNDLE],
-    hits: &'a mut [Option<LocalHit>; BUNDLE],
     seen: S,
+    found: F,
 }
 
-impl<S: FnMut(usize, usize, u32)> Kernel for ClosestFaces<'_, '_, S> {
+impl<S: FnMut(usize, usize, u32), F: FnMut(usize, LocalHit)> Kernel
+    for ClosestFaces<'_, '_, S, F>
+{
     type Output = ();
     #[inline(always)]
     fn run<W: Wide>(self, w: W) {
@@ -516,8 +546,8 @@ impl<S: FnMut(usize, usize, u32)> Kernel for ClosestFaces<'_, '_, S> {
             mut t_max,
             work,
             tests,
-            hits,
             seen,
+            mut found,
         } = self;
         let b = RayBundle::new(rays);
         let mut leaf = ClosestLeaf {
@@ -534,7 +564,9 @@ impl<S: FnMut(usize, usize, u32)> Kernel for ClosestFaces<'_, '_, S> {
         mesh.bvh
             .closest_bundle(w, &b, active, t_min, &mut t_max, work, &mut leaf);
         for i in Bits(active & b.all) {
-            hits[i] = leaf.best[i].map(|(k, w)| mesh.local_hit(&rays[i], &w, k));
+            if let Some((k, w)) = leaf.best[i] {
+                found(i, mesh.local_hit(&rays[i], &w, k));
+            }
         }
     }
 }

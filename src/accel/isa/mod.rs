@@ -83,6 +83,11 @@ pub trait Wide: Copy {
     fn lt_d(self, a: Self::D, b: Self::D) -> u32;
     /// Bit i: a_i ≤ b_i.
     fn le_d(self, a: Self::D, b: Self::D) -> u32;
+
+    /// Asks the processor to start bringing `x` into the cache (a hint: nothing else
+    /// changes). The bundle walk gives it the children it pushes, which it opens later.
+    #[inline(always)]
+    fn prefetch<T>(self, _x: &[T]) {}
 }
 // ANCHOR_END: wide
 
