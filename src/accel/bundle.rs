@@ -534,7 +534,11 @@ impl Bvh {
                         let (entered, _) =
                             b.lane_enter::<W, SHARED>(w, nd, lane, t_min32, t_max, rays);
                         if entered != 0 {
-                            stack.push((nd.child[lane], nd.count[lane], entered));
+                            let (child, count) = (nd.child[lane], nd.count[lane]);
+                            if count == 0 {
+                                w.prefetch(std::slice::from_ref(&self.nodes[child as usize]));
+                            }
+                            stack.push((child, count, entered));
                         }
                     }
                 }
