@@ -24,7 +24,7 @@ use super::bvh::{
     bracket, down, up, Bvh, Node, Pending as Single, RayBox, Visit, VisitAny, GROW, SHRINK, STACK,
     WIDTH,
 };
-use super::isa::Wide;
+use super::isa::{prefetch, Wide};
 use super::lanes::{count, F32s, F64s, FW, LANES};
 use crate::math::Ray;
 use arrayvec::ArrayVec;
@@ -267,9 +267,9 @@ pub trait BundleLeaf {
     fn test(&mut self, k: usize, rays: u32, t_max: &mut [f64; BUNDLE]);
 
     /// Primitive slots `ks` will be tested soon: a leaf may start loading them
-    /// ([`Wide::prefetch`]).
+    /// ([`super::isa::prefetch`]).
     #[inline(always)]
-    fn prefetch<W: Wide>(&self, _w: W, _ks: std::ops::Range<usize>) {}
+    fn prefetch(&self, _ks: std::ops::Range<usize>) {}
 
     /// Does `seen` want to hear of every child the bundle tests (for figures)?
     const SEES: bool = false;
@@ -386,9 +386,9 @@ impl Bvh {
             for &(t_first, lane, rays) in &order[..n] {
                 let (child, count) = (nd.child[lane] as usize, nd.count[lane] as usize);
                 if count == 0 {
-                    w.prefetch(std::slice::from_ref(&self.nodes[child]));
+                    prefetch(std::slice::from_ref(&self.nodes[child]));
                 } else {
-                    leaf.prefetch(w, child..child + count);
+                    leaf.prefetch(child..child + count);
                 }
                 stack.push(Pending {
                     child: nd.child[lane],
@@ -536,7 +536,7 @@ impl Bvh {
                         if entered != 0 {
                             let (child, count) = (nd.child[lane], nd.count[lane]);
                             if count == 0 {
-                                w.prefetch(std::slice::from_ref(&self.nodes[child as usize]));
+                                prefetch(std::slice::from_ref(&self.nodes[child as usize]));
                             }
                             stack.push((child, count, entered));
                         }

@@ -490,8 +490,8 @@ impl<W: Wide, S: FnMut(usize, usize, u32)> BundleLeaf for ClosestLeaf<'_, '_, W,
     }
 
     #[inline(always)]
-    fn prefetch<V: Wide>(&self, w: V, ks: std::ops::Range<usize>) {
-        w.prefetch(&self.faces.mesh.packed[ks]);
+    fn prefetch(&self, ks: std::ops::Range<usize>) {
+        isa::prefetch(&self.faces.mesh.packed[ks]);
     }
 
     const SEES: bool = true;

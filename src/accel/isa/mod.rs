@@ -34,6 +34,17 @@ pub trait Kernel {
     fn run<W: Wide>(self, w: W) -> Self::Output;
 }
 
+/// Asks the processor to start bringing `x` into the cache (a hint: nothing else changes).
+/// The walks give it the children they will open later. Every x86-64 has the instruction
+/// (SSE); elsewhere it does nothing.
+#[inline(always)]
+pub fn prefetch<T>(x: &[T]) {
+    #[cfg(target_arch = "x86_64")]
+    x86::prefetch(x);
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = x;
+}
+
 /// Runs `k` compiled for the widest SIMD this processor has.
 #[inline]
 pub fn run<K: Kernel>(k: K) -> K::Output {
@@ -83,11 +94,6 @@ pub trait Wide: Copy {
     fn lt_d(self, a: Self::D, b: Self::D) -> u32;
     /// Bit i: a_i ≤ b_i.
     fn le_d(self, a: Self::D, b: Self::D) -> u32;
-
-    /// Asks the processor to start bringing `x` into the cache (a hint: nothing else
-    /// changes). The bundle walk gives it the children it pushes, which it opens later.
-    #[inline(always)]
-    fn prefetch<T>(self, _x: &[T]) {}
 }
 // ANCHOR_END: wide
 

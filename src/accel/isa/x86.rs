@@ -66,14 +66,14 @@ fn run_avx2<K: Kernel>(k: K) -> K::Output {
     k.run(Avx2(()))
 }
 
-/// Every cache line of `x`, prefetched.
+/// Every cache line of `x`, prefetched ([`super::prefetch`]).
 #[inline(always)]
-fn prefetch<T>(x: &[T]) {
+pub(super) fn prefetch<T>(x: &[T]) {
     let p = x.as_ptr() as *const i8;
     for line in (0..std::mem::size_of_val(x)).step_by(64) {
-        // SAFETY: SSE is present on every x86-64 (and the caller holds a token proving
-        // AVX2); a prefetch reads nothing the program sees and cannot fault, and the
-        // address is inside `x`.
+        // SAFETY: SSE is part of x86-64 itself, so the instruction is always there; a
+        // prefetch reads nothing the program sees and cannot fault, and the address is
+        // inside `x`.
         unsafe { _mm_prefetch::<_MM_HINT_T0>(p.add(line)) }
     }
 }
@@ -87,11 +87,6 @@ pub struct Avx2(());
 pub struct Avx512(());
 
 impl Wide for Avx2 {
-    #[inline(always)]
-    fn prefetch<T>(self, x: &[T]) {
-        prefetch(x)
-    }
-
     type F = [__m256; 2];
     type D = [__m256d; 4];
     const LEVEL: Level = Level::Avx2;
@@ -259,11 +254,6 @@ impl Wide for Avx2 {
 }
 
 impl Wide for Avx512 {
-    #[inline(always)]
-    fn prefetch<T>(self, x: &[T]) {
-        prefetch(x)
-    }
-
     type F = __m512;
     type D = [__m512d; 2];
     const LEVEL: Level = Level::Avx512;
