@@ -117,22 +117,18 @@ impl Transform {
 /// Counter-based random numbers: a sample's stream depends only on the key it was created
 /// with (seed, pixel, sample index, purpose), never on thread scheduling.
 #[derive(Debug, Clone)]
-pub struct Rng {
-    state: u64,
+pub struct Rng(Stream);
+
+#[derive(Debug, Clone)]
+enum Stream {
     /// A key not hashed yet ([`Rng::keyed`]): hashed at the first draw.
-    key: Option<[u64; 4]>,
+    Keyed([u64; 4]),
+    Running(u64),
 }
 
 impl Rng {
     pub fn new(key: &[u64]) -> Rng {
-        let mut h = 0x9E37_79B9_7F4A_7C15u64;
-        for &k in key {
-            h = splitmix(h ^ k);
-        }
-        Rng {
-            state: h,
-            key: None,
-        }
+        Rng(Stream::Running(hash(key)))
     }
 
     /// [`Rng::new`] of a four-word key, hashed only if a number is ever drawn: a camera
@@ -140,20 +136,28 @@ impl Rng {
     /// only under depth of field or area lights.
     #[inline]
     pub fn keyed(key: [u64; 4]) -> Rng {
-        Rng {
-            state: 0,
-            key: Some(key),
-        }
+        Rng(Stream::Keyed(key))
     }
 
     /// A uniform number in [0, 1).
     pub fn next_f64(&mut self) -> f64 {
-        if let Some(key) = self.key.take() {
-            self.state = Rng::new(&key).state;
-        }
-        self.state = self.state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        (splitmix(self.state) >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+        let state = match self.0 {
+            Stream::Running(s) => s,
+            Stream::Keyed(key) => hash(&key),
+        };
+        let state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        self.0 = Stream::Running(state);
+        (splitmix(state) >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
     }
+}
+
+/// A key's starting state.
+fn hash(key: &[u64]) -> u64 {
+    let mut h = 0x9E37_79B9_7F4A_7C15u64;
+    for &k in key {
+        h = splitmix(h ^ k);
+    }
+    h
 }
 
 fn splitmix(mut z: u64) -> u64 {

@@ -113,7 +113,10 @@ pub fn trace_bundled(
     mut block_done: impl FnMut(u64),
 ) {
     let tile_w = tile.x.len() as u32;
-    let mut cams: ArrayVec<CameraRay, BUNDLE> = ArrayVec::new();
+    // The block's camera rays, made in place (`cams[..n]`): a list pushed to copied each
+    // record through a temporary.
+    let mut cams: [CameraRay; BUNDLE] =
+        std::array::from_fn(|_| camera_ray(scene, settings, 0, 0, 0, DVec2::ZERO));
     let mut pixels: ArrayVec<(usize, (u32, u32)), BUNDLE> = ArrayVec::new();
     let mut block: ArrayVec<(usize, (u32, u32)), BUNDLE> = ArrayVec::new();
     let mut hits = BundleHits::default();
@@ -132,14 +135,14 @@ pub fn trace_bundled(
             }
             let most = block.iter().map(|&(l, _)| plan.samples_of(l)).max();
             for k in 0..most.unwrap_or(0) {
-                cams.clear();
                 pixels.clear();
                 for &(l, (x, y)) in block.iter().filter(|&&(l, _)| k < plan.samples_of(l)) {
                     let film = plan.films[(plan.starts[l] + k) as usize];
-                    cams.push(camera_ray(scene, settings, x, y, k, film));
+                    cams[pixels.len()] = camera_ray(scene, settings, x, y, k, film);
                     pixels.push((l, (x, y)));
                 }
-                hits.find(scene, &cams, tally);
+                let cams = &mut cams[..pixels.len()];
+                hits.find(scene, cams, tally);
                 for (j, (cam, &(l, xy))) in cams.iter_mut().zip(&pixels).enumerate() {
                     trace(l, xy, k, cam, hits.found(j));
                 }

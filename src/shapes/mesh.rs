@@ -532,9 +532,7 @@ struct ClosestFaces<'a, 'r, S, F> {
     found: F,
 }
 
-impl<S: FnMut(usize, usize, u32), F: FnMut(usize, LocalHit)> Kernel
-    for ClosestFaces<'_, '_, S, F>
-{
+impl<S: FnMut(usize, usize, u32), F: FnMut(usize, LocalHit)> Kernel for ClosestFaces<'_, '_, S, F> {
     type Output = ();
     #[inline(always)]
     fn run<W: Wide>(self, w: W) {

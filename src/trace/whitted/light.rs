@@ -159,7 +159,7 @@ impl Tracer<'_> {
         match blocker {
             Some((object, local)) => {
                 if R::ACTIVE {
-                    rec.hit(&self.hit_info(&ray, object, local));
+                    rec.hit(&self.hit_info(&ray, object, &local));
                 }
                 rec.end_ray(DVec3::ZERO, End::Blocked, false);
                 false

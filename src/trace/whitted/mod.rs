@@ -72,26 +72,32 @@ impl<'a> Tracer<'a> {
         rec.begin_ray(kind, depth, ray);
         self.budget.count();
         let scene = self.scene;
+        // The hit is read where it lies (in the bundle's results, or here): it is copied
+        // once, into the hit record.
+        let walked;
         let closest = match found {
             Some(f) => {
                 rec.bundled(f.tests, f.nodes);
-                f.hit.copied()
+                f.hit
             }
-            None => scene.accel.closest_as(
-                &scene.objects,
-                ray,
-                0.0,
-                f64::INFINITY,
-                self.settings.mistakes,
-                rec,
-            ),
+            None => {
+                walked = scene.accel.closest_as(
+                    &scene.objects,
+                    ray,
+                    0.0,
+                    f64::INFINITY,
+                    self.settings.mistakes,
+                    rec,
+                );
+                walked.as_ref()
+            }
         };
         let Some((object, local)) = closest else {
             let color = self.settings.background;
             rec.end_ray(color, End::Miss, false);
             return color;
         };
-        let hit = self.hit_info(ray, object, local);
+        let hit = self.hit_info(ray, *object, local);
         rec.hit(&hit);
         let (color, end) = self.shade(ray, &hit, depth, weight, rng, rec);
         // `recursion-unclamped`: only the camera ray's colour is clamped.
@@ -108,7 +114,7 @@ impl<'a> Tracer<'a> {
     }
     // ANCHOR_END: trace
 
-    fn hit_info(&self, ray: &Ray, object: usize, local: crate::shapes::LocalHit) -> HitInfo {
+    fn hit_info(&self, ray: &Ray, object: usize, local: &crate::shapes::LocalHit) -> HitInfo {
         let o = &self.scene.objects[object];
         HitInfo {
             object,
@@ -118,7 +124,7 @@ impl<'a> Tracer<'a> {
                 .transform
                 .normal_to_world_as(local.normal, self.settings.mistakes),
             local_ray: o.transform.ray_to_object(ray),
-            local,
+            local: *local,
         }
     }
 

@@ -258,7 +258,7 @@ impl Tracer<'_> {
             rec.end_ray(DVec3::ZERO, End::Miss, false);
             return DVec3::ZERO;
         };
-        let exit = self.hit_info(&inner, hit.object, local);
+        let exit = self.hit_info(&inner, hit.object, &local);
         rec.hit(&exit);
         let n_exit = if exit.normal.dot(d_in) < 0.0 {
             exit.normal
