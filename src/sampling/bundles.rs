@@ -113,8 +113,8 @@ pub fn trace_bundled(
     mut block_done: impl FnMut(u64),
 ) {
     let tile_w = tile.x.len() as u32;
-    // The block's camera rays, made in place (`cams[..n]`): a list pushed to copied each
-    // record through a temporary.
+    // The block's camera rays, made in place into `cams[..n]` (pushing onto a list copied
+    // each record through a temporary); the placeholders are never read.
     let mut cams: [CameraRay; BUNDLE] =
         std::array::from_fn(|_| camera_ray(scene, settings, 0, 0, 0, DVec2::ZERO));
     let mut pixels: ArrayVec<(usize, (u32, u32)), BUNDLE> = ArrayVec::new();

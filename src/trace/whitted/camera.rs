@@ -94,8 +94,7 @@ pub fn camera_ray(
 
 /// Traces a camera ray ([`camera_ray`]); with its hit `found` already (by a bundle), the
 /// recorder hears the bundle's share of the work ([`Recorder::bundled`]) instead of the walk.
-/// The camera ray is borrowed, not moved: it is a few hundred bytes, and a block's bundled
-/// rays are traced where they lie.
+/// The camera ray is borrowed, not moved: a block's bundled rays are traced where they lie.
 pub fn trace_camera<R: Recorder>(
     scene: &Scene,
     settings: &RenderSettings,
