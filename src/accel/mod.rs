@@ -251,7 +251,7 @@ impl Accel {
         cost: &mut BundleCost,
         best: &mut [Option<(usize, LocalHit)>; BUNDLE],
     ) {
-        best[..rays.len()].fill(None);
+        best.iter_mut().take(rays.len()).for_each(|b| *b = None);
         isa::run(ObjectLeaf {
             accel: self,
             objects,

@@ -241,8 +241,10 @@ impl Mesh {
         hits: &mut [Option<LocalHit>; BUNDLE],
         seen: impl FnMut(usize, usize, u32),
     ) {
+        let n = rays.len();
+        assert!(n <= BUNDLE, "a bundle holds 1 to {BUNDLE} rays, not {n}");
         // Rays past the bundle's end are not in it (as `RayBundle::all` says).
-        for i in Bits(active & ((1u64 << rays.len()) - 1) as u32) {
+        for i in Bits(active & ((1u64 << n) - 1) as u32) {
             hits[i] = None;
         }
         let found = |i: usize, hit: LocalHit| hits[i] = Some(hit);
@@ -519,7 +521,7 @@ impl<W: Wide> BundleAnyLeaf for AnyLeaf<'_, '_, W> {
 }
 // ANCHOR_END: face_leaf
 
-/// [`Mesh::intersect_bundle_seen`]'s work, compiled at each SIMD width ([`isa::run`]).
+/// [`Mesh::intersect_bundle_each`]'s work, compiled at each SIMD width ([`isa::run`]).
 struct ClosestFaces<'a, 'r, S, F> {
     mesh: &'a Mesh,
     rays: &'r [Ray],

@@ -5,7 +5,8 @@
 //! they exist only inside `run_avx2` and `run_avx512`, which are called only after
 //! [`detected`] found every feature they are compiled with. An intrinsic is then a plain
 //! function on that processor; each `unsafe` block below is such a call (or an aligned
-//! load or store of a 64-byte-aligned array of the right length).
+//! load or store of a 64-byte-aligned array of the right length). The one exception is
+//! [`prefetch`], which needs no token: its instruction is part of x86-64 itself.
 #![allow(unsafe_code)]
 
 use super::{Kernel, Level, Wide};
@@ -66,15 +67,17 @@ fn run_avx2<K: Kernel>(k: K) -> K::Output {
     k.run(Avx2(()))
 }
 
-/// Every cache line of `x`, prefetched ([`super::prefetch`]).
+/// Every cache line of `x`, prefetched ([`super::prefetch`]): a byte every 64 from its
+/// start, and its last byte (`x` need not start on a line, so the steps can miss its last).
 #[inline(always)]
 pub(super) fn prefetch<T>(x: &[T]) {
-    let p = x.as_ptr() as *const i8;
-    for line in (0..std::mem::size_of_val(x)).step_by(64) {
+    let (p, len) = (x.as_ptr() as *const i8, std::mem::size_of_val(x));
+    let lines = (0..len).step_by(64).chain(len.checked_sub(1));
+    for at in lines {
         // SAFETY: SSE is part of x86-64 itself, so the instruction is always there; a
-        // prefetch reads nothing the program sees and cannot fault, and the address is
-        // inside `x`.
-        unsafe { _mm_prefetch::<_MM_HINT_T0>(p.add(line)) }
+        // prefetch reads nothing the program sees and cannot fault, and `at < len` keeps
+        // the address inside `x`.
+        unsafe { _mm_prefetch::<_MM_HINT_T0>(p.add(at)) }
     }
 }
 
