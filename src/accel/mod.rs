@@ -585,7 +585,7 @@ fn test_object_bundle(
         crate::shapes::Shape::Mesh(m) => {
             let mut work = BundleWork::default();
             let tests = &mut cost.tests;
-            m.intersect_bundle_each(local, mask, t_min, t, &mut work, tests, |_, _, _| {}, keep);
+            m.intersect_bundle(local, mask, t_min, t, &mut work, tests, keep);
             cost.opened += work.opened;
             for (c, w) in cost.nodes.iter_mut().zip(work.ray_nodes) {
                 *c += w;

@@ -6,7 +6,7 @@
 use super::sampler::{centre, only_centres, planned_films_into};
 use super::tiles::Tile;
 use crate::accel::{BundleCost, BUNDLE};
-use crate::math::Ray;
+use crate::math::{Ray, Rng};
 use crate::scene::{RenderSettings, Scene};
 use crate::trace::{camera_ray, CameraRay, Found};
 use arrayvec::ArrayVec;
@@ -115,8 +115,12 @@ pub fn trace_bundled(
     let tile_w = tile.x.len() as u32;
     // The block's camera rays, made in place into `cams[..n]` (pushing onto a list copied
     // each record through a temporary); the placeholders are never read.
-    let mut cams: [CameraRay; BUNDLE] =
-        std::array::from_fn(|_| camera_ray(scene, settings, 0, 0, 0, DVec2::ZERO));
+    let mut cams: [CameraRay; BUNDLE] = std::array::from_fn(|_| CameraRay {
+        ray: Ray::new(DVec3::ZERO, DVec3::Z),
+        film: DVec2::ZERO,
+        lens: None,
+        rng: Rng::keyed([0; 4]),
+    });
     let mut pixels: ArrayVec<(usize, (u32, u32)), BUNDLE> = ArrayVec::new();
     let mut block: ArrayVec<(usize, (u32, u32)), BUNDLE> = ArrayVec::new();
     let mut hits = BundleHits::default();

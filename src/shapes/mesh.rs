@@ -208,10 +208,11 @@ impl Mesh {
 
     // ANCHOR: mesh_bundle
     /// Closest face hits of a bundle of object-space rays (bit i of `active`: ray i takes
-    /// part, and `hits[i]` is set), each within [t_min, t_max[i]]: what [`Mesh::intersect`] gives each ray, found
-    /// by one walk of the BVH for all of them ([`Bvh::closest_bundle`]). A face reached by
-    /// several rays is prepared once and tested against each, exactly as a single ray tests
-    /// it. `work` gets the nodes; `tests[i]` the faces ray i tested.
+    /// part), each within [t_min, t_max[i]]: what [`Mesh::intersect`] gives each ray, found
+    /// by one walk of the BVH for all of them ([`Bvh::closest_bundle`]) and handed to
+    /// `found(i, hit)` (a ray that hits nothing is not). A face reached by several rays is
+    /// prepared once and tested against each, exactly as a single ray tests it. `work` gets
+    /// the nodes; `tests[i]` the faces ray i tested.
     #[allow(clippy::too_many_arguments)]
     pub fn intersect_bundle(
         &self,
@@ -221,9 +222,9 @@ impl Mesh {
         t_max: [f64; BUNDLE],
         work: &mut BundleWork,
         tests: &mut [u32; BUNDLE],
-        hits: &mut [Option<LocalHit>; BUNDLE],
+        found: impl FnMut(usize, LocalHit),
     ) {
-        self.intersect_bundle_seen(rays, active, t_min, t_max, work, tests, hits, |_, _, _| {})
+        self.intersect_bundle_seen(rays, active, t_min, t_max, work, tests, |_, _, _| {}, found)
     }
     // ANCHOR_END: mesh_bundle
 
@@ -231,31 +232,6 @@ impl Mesh {
     /// bundle entered ([`crate::accel::BundleLeaf::seen`]; for the bundle figure).
     #[allow(clippy::too_many_arguments)]
     pub fn intersect_bundle_seen(
-        &self,
-        rays: &[Ray],
-        active: u32,
-        t_min: f64,
-        t_max: [f64; BUNDLE],
-        work: &mut BundleWork,
-        tests: &mut [u32; BUNDLE],
-        hits: &mut [Option<LocalHit>; BUNDLE],
-        seen: impl FnMut(usize, usize, u32),
-    ) {
-        let n = rays.len();
-        assert!(n <= BUNDLE, "a bundle holds 1 to {BUNDLE} rays, not {n}");
-        // Rays past the bundle's end are not in it (as `RayBundle::all` says).
-        for i in Bits(active & ((1u64 << n) - 1) as u32) {
-            hits[i] = None;
-        }
-        let found = |i: usize, hit: LocalHit| hits[i] = Some(hit);
-        self.intersect_bundle_each(rays, active, t_min, t_max, work, tests, seen, found)
-    }
-
-    /// [`Mesh::intersect_bundle_seen`], each ray's hit handed to `found(i, hit)` (rays
-    /// that hit nothing are not): a caller that merges the hits into its own saves filling
-    /// and reading sixteen hit records.
-    #[allow(clippy::too_many_arguments)]
-    pub fn intersect_bundle_each(
         &self,
         rays: &[Ray],
         active: u32,
@@ -521,7 +497,7 @@ impl<W: Wide> BundleAnyLeaf for AnyLeaf<'_, '_, W> {
 }
 // ANCHOR_END: face_leaf
 
-/// [`Mesh::intersect_bundle_each`]'s work, compiled at each SIMD width ([`isa::run`]).
+/// [`Mesh::intersect_bundle_seen`]'s work, compiled at each SIMD width ([`isa::run`]).
 struct ClosestFaces<'a, 'r, S, F> {
     mesh: &'a Mesh,
     rays: &'r [Ray],

@@ -52,8 +52,8 @@ pub fn draw(scene: &Scene, x: u32, y: u32) -> Result<Canvas, String> {
         [f64::INFINITY; BUNDLE],
         &mut work,
         &mut tests,
-        &mut hits,
         |node, lane, mask| tested.push((node, lane, mask)),
+        |i, hit| hits[i] = Some(hit),
     );
     // Depth of each node (root 0), from the tree itself.
     let nodes = &mesh.bvh.nodes;
