@@ -3,6 +3,7 @@
 //! plane of the canonical view frustum) → world space through the inverse of the normalising
 //! transformation → direction = world film point − eye (then made unit length).
 
+use crate::math::lanes::{Lanes, Real, V2, V3};
 use crate::math::{Ray, Rng};
 use crate::mistakes::{Mistake, Mistakes};
 use glam::{DMat4, DVec2, DVec3, DVec4};
@@ -42,6 +43,16 @@ pub struct RayGeneration {
     pub origin: DVec3,
     /// Unit direction of the ray.
     pub direction: DVec3,
+}
+
+/// The stages of [`Camera::generate_in`] (of one ray, or of many side by side).
+#[derive(Debug, Clone, Copy)]
+pub struct Stages<T> {
+    pub ndc: V2<T>,
+    pub film_point: V3<T>,
+    pub world_point: V3<T>,
+    pub origin: V3<T>,
+    pub direction: V3<T>,
 }
 
 impl Camera {
@@ -138,64 +149,105 @@ impl Camera {
         self.generate_as(film, lens, Mistakes::NONE)
     }
 
-    /// The ray of [`Camera::generate_as`] alone: what `render` traces, without keeping the
-    /// stages (the same code, inlined here, with the stages nobody reads left out).
+    /// The ray of [`Camera::generate_as`] alone: what `render` traces for one sample.
     pub fn ray_as(&self, film: DVec2, lens: Option<DVec2>, mistakes: Mistakes) -> Ray {
-        self.generate_as(film, lens, mistakes).0
+        let g = self.generate_in(V2::splat(film), lens.map(V2::splat), mistakes);
+        Ray::new(g.origin.glam(), g.direction.glam())
     }
 
-    // ANCHOR: generate
     /// [`Camera::generate`] under the catalogue's camera mistakes (none: the lecture's).
-    #[inline(always)] // into `ray_as`, whose caller needs only the ray
     pub fn generate_as(
         &self,
         film: DVec2,
         lens: Option<DVec2>,
         mistakes: Mistakes,
     ) -> (Ray, RayGeneration) {
+        let g = self.generate_in(V2::splat(film), lens.map(V2::splat), mistakes);
+        let generation = RayGeneration {
+            film,
+            ndc: g.ndc.glam(),
+            film_point: g.film_point.glam(),
+            world_point: g.world_point.glam(),
+            origin: g.origin.glam(),
+            direction: g.direction.glam(),
+        };
+        (
+            Ray::new(generation.origin, generation.direction),
+            generation,
+        )
+    }
+
+    /// The rays of [`Camera::ray_as`] for `N` samples at once, made side by side: lane i of
+    /// the film positions (and of the lens samples, for a thin lens) gives lane i of the
+    /// origins and directions, bit for bit the ray `ray_as` makes of it alone. A bundle's
+    /// camera rays are made this way ([`crate::trace::camera_rays`]).
+    #[inline(always)]
+    pub fn rays_as<const N: usize>(
+        &self,
+        film: V2<Lanes<N>>,
+        lens: Option<V2<Lanes<N>>>,
+        mistakes: Mistakes,
+    ) -> (V3<Lanes<N>>, V3<Lanes<N>>) {
+        let g = self.generate_in(film, lens, mistakes);
+        (g.origin, g.direction)
+    }
+
+    // ANCHOR: generate
+    /// Every stage of the ray through `film` under `mistakes`, on one number or on many side
+    /// by side ([`Real`]: the same operations either way, so the same bits).
+    #[inline(always)]
+    pub fn generate_in<T: Real>(
+        &self,
+        film: V2<T>,
+        lens: Option<V2<T>>,
+        mistakes: Mistakes,
+    ) -> Stages<T> {
         // `pixel-corner`: the sample's position taken from the pixel's corner, not its centre.
         let at = if mistakes.has(Mistake::PixelCorner) {
-            film - DVec2::splat(0.5)
+            film - V2::splat(DVec2::splat(0.5))
         } else {
             film
         };
-        let mut ndc = DVec2::new(
-            2.0 * at.x / self.width as f64 - 1.0,
-            1.0 - 2.0 * at.y / self.height as f64,
-        );
+        let mut ndc = V2 {
+            x: at.x * 2.0 / self.width as f64 - 1.0,
+            y: (at.y * 2.0 / self.height as f64).one_minus(),
+        };
         if mistakes.has(Mistake::ImageFlipped) {
             ndc.y = -ndc.y; // row 0 taken as the bottom of the film
         }
         if mistakes.has(Mistake::FovWidthAngle) || mistakes.has(Mistake::AspectIgnored) {
             // The normalising transformation holds the right width; scale x to the wrong one.
-            ndc.x *= self.tan_half_angles(mistakes).0 / self.tan_half_angles(Mistakes::NONE).0;
+            let wrong = self.tan_half_angles(mistakes).0 / self.tan_half_angles(Mistakes::NONE).0;
+            ndc.x = ndc.x * wrong;
         }
-        let film_point = DVec3::new(ndc.x, ndc.y, -1.0);
-        let world_point = self.world_from_canonical.transform_point3(film_point);
-        let mut origin = self.position;
-        let mut direction = (world_point - self.position).normalize();
+        let film_point = V3 {
+            x: ndc.x,
+            y: ndc.y,
+            z: T::splat(-1.0),
+        };
+        let world_point = V3::transformed_point(&self.world_from_canonical, film_point);
+        let eye = V3::splat(self.position);
+        let mut origin = eye;
+        let mut direction = (world_point - eye).normalize();
         if let (Some(lens), true) = (lens, self.aperture > 0.0) {
             // Thin lens: start on the aperture disc, aim at the point of the primary ray that
             // lies on the plane in focus.
-            let focus =
-                self.position + direction * (self.focal_distance / direction.dot(-self.basis[2]));
+            let [u, v, w] = self.basis.map(V3::splat);
+            let focus = eye + direction * (T::splat(self.focal_distance) / direction.dot(-w));
             let (r, phi) = (
-                (lens.x).sqrt() * self.aperture / 2.0,
+                lens.x.sqrt() * self.aperture / 2.0,
                 lens.y * std::f64::consts::TAU,
             );
-            origin =
-                self.position + self.basis[0] * (r * phi.cos()) + self.basis[1] * (r * phi.sin());
+            origin = eye + u * (r * phi.cos()) + v * (r * phi.sin());
             direction = (focus - origin).normalize();
         }
-        let generation = RayGeneration {
-            film,
+        Stages {
             ndc,
             film_point,
             world_point,
             origin,
             direction,
-        };
-        (Ray::new(origin, direction), generation)
+        }
     }
     // ANCHOR_END: generate
 
@@ -208,6 +260,50 @@ impl Camera {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Rays made side by side (`rays_as`, as bundles make them) are bit for bit the rays made
+    /// one at a time, under every camera mistake, with and without a thin lens.
+    #[test]
+    fn rays_side_by_side_are_the_rays_one_at_a_time() {
+        let mut cam = Camera::new(
+            DVec3::new(0.3, 1.7, 5.1),
+            DVec3::new(-0.2, 0.4, 0.0),
+            DVec3::new(0.1, 1.0, 0.0),
+            37.0,
+            61,
+            47,
+        )
+        .unwrap();
+        let mut rng = Rng::new(&[3, 1230]);
+        let films: Vec<DVec2> = (0..16)
+            .map(|_| DVec2::new(rng.next_f64() * 61.0, rng.next_f64() * 47.0))
+            .collect();
+        let lenses: Vec<DVec2> = (0..16)
+            .map(|_| DVec2::new(rng.next_f64(), rng.next_f64()))
+            .collect();
+        let lanes = |v: &[DVec2]| V2 {
+            x: Lanes::<16>::from_fn(|i| v[i].x),
+            y: Lanes::<16>::from_fn(|i| v[i].y),
+        };
+        let camera_mistakes = [
+            Mistakes::NONE,
+            Mistakes::one(Mistake::PixelCorner),
+            Mistakes::one(Mistake::ImageFlipped),
+            Mistakes::one(Mistake::FovWidthAngle),
+            Mistakes::one(Mistake::AspectIgnored),
+        ];
+        for aperture in [0.0, 0.25] {
+            cam.aperture = aperture;
+            for m in camera_mistakes {
+                let (o, d) = cam.rays_as(lanes(&films), Some(lanes(&lenses)), m);
+                for i in 0..16 {
+                    let one = cam.ray_as(films[i], Some(lenses[i]), m);
+                    assert_eq!(o.lane(i).to_array(), one.origin.to_array(), "{m:?} {i}");
+                    assert_eq!(d.lane(i).to_array(), one.dir.to_array(), "{m:?} {i}");
+                }
+            }
+        }
+    }
     #[test]
     fn centre_pixel_looks_at_target_and_corners_span_fov() {
         let cam = Camera::new(

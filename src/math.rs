@@ -1,5 +1,7 @@
 //! Rays and transforms: the two pieces of linear algebra every other module shares.
 
+pub mod lanes;
+
 use crate::mistakes::{Mistake, Mistakes};
 use glam::{DMat3, DMat4, DVec3};
 

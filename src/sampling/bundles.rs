@@ -8,7 +8,7 @@ use super::tiles::Tile;
 use crate::accel::{BundleCost, BUNDLE};
 use crate::math::{Ray, Rng};
 use crate::scene::{RenderSettings, Scene};
-use crate::trace::{camera_ray, CameraRay, Found};
+use crate::trace::{camera_rays, CameraRay, Found};
 use arrayvec::ArrayVec;
 use glam::{DVec2, DVec3};
 
@@ -97,7 +97,7 @@ impl TilePlan {
 
 // ANCHOR: trace_bundled
 /// Traces every sample of `plan` in bundles: per SIDE×SIDE block of the tile's pixels and per
-/// sample index, the block's camera rays are made, walked to their closest hits together
+/// sample index, the block's camera rays are made (side by side, [`camera_rays`]), walked to their closest hits together
 /// ([`crate::accel::Accel::closest_bundle_into`]), and handed one by one, hit found, to
 /// `trace(l, (x, y), k, camera)` (the tile's pixel `l`, at (x, y), its sample `k`), which
 /// shades them with the one tracer. `block_done(pixels)` follows each block; a cancelled
@@ -113,8 +113,8 @@ pub fn trace_bundled(
     mut block_done: impl FnMut(u64),
 ) {
     let tile_w = tile.x.len() as u32;
-    // The block's camera rays, made in place into `cams[..n]` (pushing onto a list copied
-    // each record through a temporary); the placeholders are never read.
+    // The block's camera rays, made side by side into `cams[..n]`; the placeholders past
+    // them are never read.
     let mut cams: [CameraRay; BUNDLE] = std::array::from_fn(|_| CameraRay {
         ray: Ray::new(DVec3::ZERO, DVec3::Z),
         film: DVec2::ZERO,
@@ -123,6 +123,7 @@ pub fn trace_bundled(
     });
     let mut pixels: ArrayVec<(usize, (u32, u32)), BUNDLE> = ArrayVec::new();
     let mut block: ArrayVec<(usize, (u32, u32)), BUNDLE> = ArrayVec::new();
+    let mut samples: ArrayVec<(u32, u32, u32, DVec2), BUNDLE> = ArrayVec::new();
     let mut hits = BundleHits::default();
     for by in (tile.y.start..tile.y.end).step_by(SIDE as usize) {
         for bx in (tile.x.start..tile.x.end).step_by(SIDE as usize) {
@@ -140,11 +141,15 @@ pub fn trace_bundled(
             let most = block.iter().map(|&(l, _)| plan.samples_of(l)).max();
             for k in 0..most.unwrap_or(0) {
                 pixels.clear();
+                samples.clear();
                 for &(l, (x, y)) in block.iter().filter(|&&(l, _)| k < plan.samples_of(l)) {
-                    let film = plan.films[(plan.starts[l] + k) as usize];
-                    cams[pixels.len()] = camera_ray(scene, settings, x, y, k, film);
+                    samples.push((x, y, k, plan.films[(plan.starts[l] + k) as usize]));
                     pixels.push((l, (x, y)));
                 }
+                if pixels.is_empty() {
+                    continue;
+                }
+                camera_rays(scene, settings, &samples, &mut cams);
                 let cams = &mut cams[..pixels.len()];
                 hits.find(scene, cams, tally);
                 for (j, (cam, &(l, xy))) in cams.iter_mut().zip(&pixels).enumerate() {

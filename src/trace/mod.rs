@@ -16,5 +16,7 @@ pub use budget::{CHECK_EVERY, DEFAULT_MAX_RAYS};
 pub use counter::{CountObserver, Counter, RayCounts};
 pub use recorder::{End, HitInfo, NoRecorder, RayKind, Recorder};
 pub use tree::{HitNode, LightNode, RayNode, ShadingNode, TestNode, TreeRecorder};
-pub use whitted::{camera_ray, trace_camera, trace_sample, CameraRay, Found, SampleResult, Tracer};
+pub use whitted::{
+    camera_ray, camera_rays, trace_camera, trace_sample, CameraRay, Found, SampleResult, Tracer,
+};
 pub use worst_case::{branching_warning, worst_case, WorstCase};

@@ -1,7 +1,9 @@
 //! A sample's camera ray: made from (seed, pixel, sample index), then traced.
 
 use super::Tracer;
+use crate::accel::BUNDLE;
 use crate::camera::RayGeneration;
+use crate::math::lanes::{Lanes, V2};
 use crate::math::{Ray, Rng};
 use crate::scene::{RenderSettings, Scene};
 use crate::trace::{RayKind, Recorder};
@@ -89,6 +91,50 @@ pub fn camera_ray(
         film,
         lens,
         rng,
+    }
+}
+
+/// The camera rays of up to [`BUNDLE`] samples, `samples[i]` = (pixel x, y, sample index,
+/// film position), written to `out[i]`: each exactly what [`camera_ray`] makes of it (its
+/// random stream and lens sample drawn the same way), the rays generated side by side
+/// ([`crate::camera::Camera::rays_as`]) rather than one after another.
+#[inline(always)]
+pub fn camera_rays(
+    scene: &Scene,
+    settings: &RenderSettings,
+    samples: &[(u32, u32, u32, DVec2)],
+    out: &mut [CameraRay],
+) {
+    let n = samples.len();
+    assert!(
+        (1..=BUNDLE).contains(&n) && out.len() >= n,
+        "a block holds 1 to {BUNDLE} camera rays, not {n}"
+    );
+    let mut lenses = [None; BUNDLE];
+    for (i, &(px, py, index, film)) in samples.iter().enumerate() {
+        let mut rng = Rng::keyed([settings.seed, px as u64, py as u64, index as u64]);
+        lenses[i] = scene.camera.lens_sample(settings.depth_of_field, &mut rng);
+        out[i].film = film;
+        out[i].rng = rng;
+    }
+    // Lanes past the last sample repeat it; their rays are not kept.
+    let lane = |i: usize| i.min(n - 1);
+    let film = V2 {
+        x: Lanes::<BUNDLE>::from_fn(|i| samples[lane(i)].3.x),
+        y: Lanes::from_fn(|i| samples[lane(i)].3.y),
+    };
+    // Every sample draws a lens sample, or none does (the camera and settings decide).
+    let lens = lenses[0].map(|_| {
+        let at = |i: usize| lenses[lane(i)].unwrap_or_default();
+        V2 {
+            x: Lanes::from_fn(|i| at(i).x),
+            y: Lanes::from_fn(|i| at(i).y),
+        }
+    });
+    let (origin, dir) = scene.camera.rays_as(film, lens, settings.mistakes);
+    for (i, cam) in out[..n].iter_mut().enumerate() {
+        cam.ray = Ray::new(origin.lane(i), dir.lane(i));
+        cam.lens = lenses[i];
     }
 }
 

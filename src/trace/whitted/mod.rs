@@ -13,7 +13,9 @@ mod camera;
 mod light;
 mod shade;
 
-pub use camera::{camera_ray, trace_camera, trace_sample, CameraRay, Found, SampleResult};
+pub use camera::{
+    camera_ray, camera_rays, trace_camera, trace_sample, CameraRay, Found, SampleResult,
+};
 
 use super::budget::Budget;
 use super::{End, HitInfo, RayKind, Recorder};
