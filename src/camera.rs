@@ -252,6 +252,7 @@ impl Camera {
     // ANCHOR_END: generate
 
     /// The lens sample for a given random stream, `None` for a pinhole.
+    #[inline]
     pub fn lens_sample(&self, enabled: bool, rng: &mut Rng) -> Option<DVec2> {
         (enabled && self.aperture > 0.0).then(|| DVec2::new(rng.next_f64(), rng.next_f64()))
     }

@@ -97,8 +97,9 @@ impl TilePlan {
 
 // ANCHOR: trace_bundled
 /// Traces every sample of `plan` in bundles: per SIDE×SIDE block of the tile's pixels and per
-/// sample index, the block's camera rays are made (side by side, [`camera_rays`]), walked to their closest hits together
-/// ([`crate::accel::Accel::closest_bundle_into`]), and handed one by one, hit found, to
+/// sample index, the block's camera rays are made side by side ([`camera_rays`]), walked to
+/// their closest hits together ([`crate::accel::Accel::closest_bundle_into`]), and handed
+/// one by one, hit found, to
 /// `trace(l, (x, y), k, camera)` (the tile's pixel `l`, at (x, y), its sample `k`), which
 /// shades them with the one tracer. `block_done(pixels)` follows each block; a cancelled
 /// render (`settings.cancel`) stops before the next block.

@@ -83,8 +83,7 @@ pub fn camera_ray(
     index: u32,
     film: DVec2,
 ) -> CameraRay {
-    let mut rng = Rng::keyed([settings.seed, px as u64, py as u64, index as u64]);
-    let lens = scene.camera.lens_sample(settings.depth_of_field, &mut rng);
+    let (lens, rng) = lens_and_stream(scene, settings, px, py, index);
     let ray = scene.camera.ray_as(film, lens, settings.mistakes);
     CameraRay {
         ray,
@@ -92,6 +91,21 @@ pub fn camera_ray(
         lens,
         rng,
     }
+}
+
+/// Sample `index` of pixel (`px`, `py`)'s lens sample (`None` for a pinhole) and its random
+/// stream after it, for the area lights: from (seed, pixel, sample index) alone.
+#[inline(always)]
+fn lens_and_stream(
+    scene: &Scene,
+    settings: &RenderSettings,
+    px: u32,
+    py: u32,
+    index: u32,
+) -> (Option<DVec2>, Rng) {
+    let mut rng = Rng::keyed([settings.seed, px as u64, py as u64, index as u64]);
+    let lens = scene.camera.lens_sample(settings.depth_of_field, &mut rng);
+    (lens, rng)
 }
 
 /// The camera rays of up to [`BUNDLE`] samples, `samples[i]` = (pixel x, y, sample index,
@@ -112,8 +126,8 @@ pub fn camera_rays(
     );
     let mut lenses = [None; BUNDLE];
     for (i, &(px, py, index, film)) in samples.iter().enumerate() {
-        let mut rng = Rng::keyed([settings.seed, px as u64, py as u64, index as u64]);
-        lenses[i] = scene.camera.lens_sample(settings.depth_of_field, &mut rng);
+        let (lens, rng) = lens_and_stream(scene, settings, px, py, index);
+        lenses[i] = lens;
         out[i].film = film;
         out[i].rng = rng;
     }
