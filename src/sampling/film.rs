@@ -3,8 +3,9 @@
 
 use super::bundles::{trace_bundled, BundleTally, TilePlan};
 use super::image::Image;
+use super::kept::TileSamples;
 use super::reconstruct::reconstruct_color;
-use super::sampler::sample_pixel_into;
+use super::sampler::{only_centres, sample_pixel_into};
 use super::tiles::{row_major_order, tiles};
 use super::{Filter, PixelSample};
 use crate::accel::Traversal;
@@ -121,11 +122,10 @@ fn render_with<R: Tally>(
     let (w, h) = (scene.camera.width, scene.camera.height);
     let stopped = std::sync::atomic::AtomicBool::new(false);
     let start = Instant::now();
-    /// One tile's samples (all in one vector, pixel by pixel in the tile's own row-major
-    /// order, with where each pixel's start: `ends[l]` is one past pixel l's last) and
-    /// counts, its first non-finite sample, and its samples the ray budget cut (count, first).
+    /// One tile's samples (pixel by pixel in the tile's own row-major order) and counts,
+    /// its first non-finite sample, and its samples the ray budget cut (count, first).
     type Traced = (
-        (Vec<PixelSample>, Vec<u32>),
+        TileSamples,
         (Vec<[u64; 2]>, RayCounts),
         Option<(u32, u32, u32)>,
         (u64, Option<(u32, u32, u32)>),
@@ -133,6 +133,7 @@ fn render_with<R: Tally>(
     );
     // Under a mistake that changes hits, every ray takes the mistaken single-ray path.
     let bundled = settings.traversal == Traversal::Bundle && !settings.mistakes.changes_hits();
+    let centres = only_centres(settings);
     let tiles = tiles(w, h);
     let traced: Vec<Traced> = tiles
         .par_iter()
@@ -158,8 +159,8 @@ fn render_with<R: Tally>(
             let plan = bundled
                 .then(|| TilePlan::new(settings, w, h, tile))
                 .flatten();
-            let (samples, ends) = if let Some(plan) = plan {
-                let mut samples = vec![PixelSample::UNTRACED; plan.len()];
+            let kept = if let Some(plan) = plan {
+                let mut kept = TileSamples::planned(centres, plan.len(), &plan.starts[1..]);
                 let mut recs: Vec<R> = (0..tile.len()).map(|_| R::default()).collect();
                 trace_bundled(
                     scene,
@@ -169,12 +170,13 @@ fn render_with<R: Tally>(
                     &mut tally,
                     |l, (x, y), k, camera, found| {
                         let r = trace_camera(scene, settings, camera, Some(found), &mut recs[l]);
-                        samples[(plan.starts[l] + k) as usize] = PixelSample {
+                        let sample = PixelSample {
                             index: k,
                             film: r.film,
                             area: 1.0,
                             color: firsts.note(&r, (x, y, k)),
                         };
+                        kept.set((plan.starts[l] + k) as usize, sample);
                     },
                     |pixels| {
                         if let Some(p) = progress {
@@ -185,32 +187,34 @@ fn render_with<R: Tally>(
                 if !settings.cancel.is_cancelled() {
                     recs.into_iter().for_each(&mut tally_pixel);
                 }
-                (samples, plan.starts[1..].to_vec())
+                kept
             } else {
-                let mut samples = Vec::with_capacity(tile.len() * (settings.spp as usize).min(16));
-                let mut ends = Vec::with_capacity(tile.len());
+                let most = tile.len() * (settings.spp as usize).min(16);
+                let mut kept = TileSamples::with_capacity(centres, tile.len(), most);
+                let mut samples = Vec::new();
                 for (x, y) in tile.pixels() {
                     if settings.cancel.is_cancelled() {
                         // Ctrl-C or a cancelled token: skip the rest; the caller writes nothing.
                         break;
                     }
                     let mut rec = R::default();
+                    samples.clear();
                     sample_pixel_into(settings, w, h, x, y, &mut samples, |k, film| {
                         let mut camera = camera_ray(scene, settings, x, y, k, film);
                         let r = trace_camera(scene, settings, &mut camera, None, &mut rec);
                         firsts.note(&r, (x, y, k))
                     });
-                    ends.push(samples.len() as u32);
+                    kept.push_pixel(&samples);
                     tally_pixel(rec);
                     // Pixel by pixel, so the bar moves while a slow tile is still being traced.
                     if let Some(p) = progress {
                         p.inc(1);
                     }
                 }
-                (samples, ends)
+                kept
             };
             let Firsts { nan, cut } = firsts;
-            ((samples, ends), (stats, tile_rays), nan, cut, tally)
+            (kept, (stats, tile_rays), nan, cut, tally)
         })
         .collect();
     let trace_seconds = start.elapsed().as_secs_f64();
@@ -264,14 +268,11 @@ fn render_with<R: Tally>(
             st.bundles.add(&t.4);
         }
     }
-    let grid: Vec<&[PixelSample]> = row_major_order(w, h)
-        .map(|(t, l)| {
-            let (samples, ends) = &traced[t].0;
-            let start = if l == 0 { 0 } else { ends[l - 1] as usize };
-            &samples[start..ends[l] as usize]
-        })
+    // Each pixel's samples: its tile's, and its place in the tile.
+    let grid: Vec<(&TileSamples, usize)> = row_major_order(w, h)
+        .map(|(t, l)| (&traced[t].0, l))
         .collect();
-    let spp_map = Some(grid.iter().map(|s| s.len() as u32).collect());
+    let spp_map = Some(grid.iter().map(|&(kept, l)| kept.count(l)).collect());
     let filter = Filter::for_settings(settings);
     let pixels = (0..h)
         .into_par_iter()
@@ -279,9 +280,8 @@ fn render_with<R: Tally>(
             let grid = &grid;
             (0..w).map(move |x| {
                 reconstruct_color(&filter, (x, y), (w, h), settings.subsample, |qx, qy| {
-                    grid[(qy * w + qx) as usize]
-                        .iter()
-                        .map(|s| (s.film, s.color, s.area))
+                    let (kept, l) = grid[(qy * w + qx) as usize];
+                    kept.of(l, (qx, qy))
                 })
             })
         })

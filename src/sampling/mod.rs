@@ -5,6 +5,7 @@ pub mod bundles;
 mod film;
 mod filter;
 mod image;
+mod kept;
 pub mod progressive;
 mod reconstruct;
 mod sampler;

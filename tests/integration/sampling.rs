@@ -507,3 +507,29 @@ fn subsampled_reconstruction_skips_only_empty_pixels() {
         }
     }
 }
+
+/// The centre sampler keeps only each pixel's colour for the filter (its film position is the
+/// pixel's centre); the grid sampler at 1 sample per pixel traces the same point and keeps
+/// the whole sample record. Every filter, both traversals: the same image to the last bit.
+#[test]
+fn the_centre_samplers_kept_colours_reconstruct_as_full_samples() {
+    for file in ["scenes/whitted.json", "scenes/teapot.json"] {
+        let mut base = scene(file);
+        base.camera.update_size(45, 34);
+        for filter in [FilterKind::Box, FilterKind::Gaussian, FilterKind::Mitchell] {
+            for traversal in [
+                rtlab::accel::Traversal::Single,
+                rtlab::accel::Traversal::Bundle,
+            ] {
+                let mut centre = with(&base, SamplerKind::Center, 1);
+                centre.render.filter = filter;
+                centre.render.traversal = traversal;
+                let mut grid = centre.clone();
+                grid.render.sampler = SamplerKind::Grid;
+                let (a, b) = (run(&centre), run(&grid));
+                assert_eq!(a.image, b.image, "{file} {filter:?} {traversal:?}");
+                assert_eq!(a.spp_map, b.spp_map, "{file} {filter:?} {traversal:?}");
+            }
+        }
+    }
+}

@@ -1,0 +1,106 @@
+//! What a render keeps of a tile's samples between tracing them and reconstructing the
+//! image from them: every sample's film position, colour and area, or, when every pixel
+//! traces exactly one sample at its centre, the colours alone.
+
+use super::sampler::centre;
+use super::PixelSample;
+use glam::{DVec2, DVec3};
+
+/// A tile's samples, pixel by pixel in the tile's row-major order.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) enum TileSamples {
+    /// One sample per pixel, at its centre, of area 1 (the centre sampler without
+    /// subsampling, [`super::sampler::only_centres`]): its colour is all that is not known
+    /// already, 24 bytes a pixel rather than a sample record and a list end (64). A render
+    /// writes every byte it keeps while its trace runs, into memory the system hands over
+    /// page by page; keeping less made the default render's trace measurably faster.
+    Centres(Vec<DVec3>),
+    /// Every sample; pixel l's are `samples[ends[l - 1]..ends[l]]` (from 0 for l = 0).
+    Listed {
+        samples: Vec<PixelSample>,
+        ends: Vec<u32>,
+    },
+}
+
+impl Default for TileSamples {
+    fn default() -> Self {
+        TileSamples::Centres(Vec::new())
+    }
+}
+
+impl TileSamples {
+    /// Room for `pixels` pixels of `samples` samples in all; `centres`: one at each centre.
+    pub(super) fn with_capacity(centres: bool, pixels: usize, samples: usize) -> Self {
+        if centres {
+            TileSamples::Centres(Vec::with_capacity(pixels))
+        } else {
+            TileSamples::Listed {
+                samples: Vec::with_capacity(samples),
+                ends: Vec::with_capacity(pixels),
+            }
+        }
+    }
+
+    /// The next pixel's samples, in index order.
+    pub(super) fn push_pixel(&mut self, traced: &[PixelSample]) {
+        match self {
+            TileSamples::Centres(colors) => {
+                debug_assert!(traced.len() == 1, "a centre pixel traces one sample");
+                colors.extend(traced.iter().map(|s| s.color));
+            }
+            TileSamples::Listed { samples, ends } => {
+                samples.extend_from_slice(traced);
+                ends.push(samples.len() as u32);
+            }
+        }
+    }
+
+    /// Samples laid out in advance: `films` samples in all, pixel l's ending at `ends[l]`
+    /// (one at each centre when `centres`), to be filled in by [`TileSamples::set`].
+    pub(super) fn planned(centres: bool, films: usize, ends: &[u32]) -> Self {
+        if centres {
+            TileSamples::Centres(vec![DVec3::ZERO; films])
+        } else {
+            TileSamples::Listed {
+                samples: vec![PixelSample::UNTRACED; films],
+                ends: ends.to_vec(),
+            }
+        }
+    }
+
+    /// Sample `i` of the tile (of all its samples, in order) is `s`.
+    #[inline(always)]
+    pub(super) fn set(&mut self, i: usize, s: PixelSample) {
+        match self {
+            TileSamples::Centres(colors) => colors[i] = s.color,
+            TileSamples::Listed { samples, .. } => samples[i] = s,
+        }
+    }
+
+    /// How many samples pixel l owns.
+    pub(super) fn count(&self, l: usize) -> u32 {
+        match self {
+            TileSamples::Centres(_) => 1,
+            TileSamples::Listed { ends, .. } => ends[l] - if l == 0 { 0 } else { ends[l - 1] },
+        }
+    }
+
+    /// Pixel l's samples, as (film position, colour, area), in index order; the pixel is at
+    /// (x, y) on the image.
+    #[inline]
+    pub(super) fn of(
+        &self,
+        l: usize,
+        (x, y): (u32, u32),
+    ) -> impl Iterator<Item = (DVec2, DVec3, f64)> + '_ {
+        let (one, list): (Option<(DVec2, DVec3, f64)>, &[PixelSample]) = match self {
+            TileSamples::Centres(colors) => (Some((centre(x, y), colors[l], 1.0)), &[]),
+            TileSamples::Listed { samples, ends } => {
+                let start = if l == 0 { 0 } else { ends[l - 1] as usize };
+                (None, &samples[start..ends[l] as usize])
+            }
+        };
+        one.into_iter()
+            .chain(list.iter().map(|s| (s.film, s.color, s.area)))
+    }
+}
