@@ -3,11 +3,12 @@
 //! plane of the canonical view frustum) → world space through the inverse of the normalising
 //! transformation → direction = world film point − eye (then made unit length).
 
-use crate::math::lanes::{Lanes, Real, V2, V3};
+use crate::math::lanes::{Lanes, Real, TransformPoint, V2, V3};
 use crate::math::{Ray, Rng};
 use crate::mistakes::{Mistake, Mistakes};
 use glam::{DMat4, DVec2, DVec3, DVec4};
 use serde::Serialize;
+use std::ops::{Div, Mul, Sub};
 
 /// A pinhole camera (a thin lens when `aperture` > 0), validated: unit basis, 0 < fov < 180.
 #[derive(Debug, Clone, PartialEq)]
@@ -45,13 +46,18 @@ pub struct RayGeneration {
     pub direction: DVec3,
 }
 
-/// The stages of [`Camera::generate_in`] (of one ray, or of many side by side).
+/// The stages of [`Camera::generate_in`] (of one ray, or of many side by side): what
+/// [`RayGeneration`] records of one ray, but its film position.
 #[derive(Debug, Clone, Copy)]
 pub struct Stages<T> {
+    /// Normalised device coordinates: x, y in [−1, 1], y up.
     pub ndc: V2<T>,
+    /// The point on the canonical frustum's far plane, (x, y, −1).
     pub film_point: V3<T>,
+    /// That point taken back to world space.
     pub world_point: V3<T>,
     pub origin: V3<T>,
+    /// Unit direction of the ray.
     pub direction: V3<T>,
 }
 
@@ -143,6 +149,12 @@ impl Camera {
         (tan_w, tan_h)
     }
 
+    /// tan(θw/2) under the width mistakes over the right one: how much the mistaken film
+    /// is wider.
+    fn wrong_width(&self, mistakes: Mistakes) -> f64 {
+        self.tan_half_angles(mistakes).0 / self.tan_half_angles(Mistakes::NONE).0
+    }
+
     /// The ray through film position `film` (pixel units, y down), with every stage recorded.
     /// `lens` is a point in the unit square for depth of field (ignored for a pinhole).
     pub fn generate(&self, film: DVec2, lens: Option<DVec2>) -> (Ray, RayGeneration) {
@@ -201,39 +213,41 @@ impl Camera {
         film: V2<T>,
         lens: Option<V2<T>>,
         mistakes: Mistakes,
-    ) -> Stages<T> {
+    ) -> Stages<T>
+    where
+        f64: Mul<T, Output = T> + Sub<T, Output = T> + Div<T, Output = T>,
+    {
         // `pixel-corner`: the sample's position taken from the pixel's corner, not its centre.
         let at = if mistakes.has(Mistake::PixelCorner) {
-            film - V2::splat(DVec2::splat(0.5))
+            film - DVec2::splat(0.5)
         } else {
             film
         };
         let mut ndc = V2 {
-            x: at.x * 2.0 / self.width as f64 - 1.0,
-            y: (at.y * 2.0 / self.height as f64).one_minus(),
+            x: 2.0 * at.x / self.width as f64 - 1.0,
+            y: 1.0 - 2.0 * at.y / self.height as f64,
         };
         if mistakes.has(Mistake::ImageFlipped) {
             ndc.y = -ndc.y; // row 0 taken as the bottom of the film
         }
         if mistakes.has(Mistake::FovWidthAngle) || mistakes.has(Mistake::AspectIgnored) {
             // The normalising transformation holds the right width; scale x to the wrong one.
-            let wrong = self.tan_half_angles(mistakes).0 / self.tan_half_angles(Mistakes::NONE).0;
-            ndc.x = ndc.x * wrong;
+            ndc.x *= self.wrong_width(mistakes);
         }
         let film_point = V3 {
             x: ndc.x,
             y: ndc.y,
             z: T::splat(-1.0),
         };
-        let world_point = V3::transformed_point(&self.world_from_canonical, film_point);
-        let eye = V3::splat(self.position);
+        let world_point = self.world_from_canonical.transform_point(film_point);
+        let eye = V3::splat(self.position); // the camera's position, in every lane
         let mut origin = eye;
         let mut direction = (world_point - eye).normalize();
         if let (Some(lens), true) = (lens, self.aperture > 0.0) {
             // Thin lens: start on the aperture disc, aim at the point of the primary ray that
             // lies on the plane in focus.
             let [u, v, w] = self.basis.map(V3::splat);
-            let focus = eye + direction * (T::splat(self.focal_distance) / direction.dot(-w));
+            let focus = eye + direction * (self.focal_distance / direction.dot(-w));
             let (r, phi) = (
                 lens.x.sqrt() * self.aperture / 2.0,
                 lens.y * std::f64::consts::TAU,
@@ -262,8 +276,32 @@ impl Camera {
 mod tests {
     use super::*;
 
+    /// The lecture's steps written with glam's own vectors and matrix, as `generate` was
+    /// before it ran on [`Real`]s: the oracle the generic code must match bit for bit.
+    fn glam_ray(cam: &Camera, film: DVec2, lens: DVec2) -> Ray {
+        let ndc = DVec2::new(
+            2.0 * film.x / cam.width as f64 - 1.0,
+            1.0 - 2.0 * film.y / cam.height as f64,
+        );
+        let world_point = cam
+            .world_from_canonical
+            .transform_point3(DVec3::new(ndc.x, ndc.y, -1.0));
+        let direction = (world_point - cam.position).normalize();
+        if cam.aperture <= 0.0 {
+            return Ray::new(cam.position, direction);
+        }
+        let focus = cam.position + direction * (cam.focal_distance / direction.dot(-cam.basis[2]));
+        let (r, phi) = (
+            lens.x.sqrt() * cam.aperture / 2.0,
+            lens.y * std::f64::consts::TAU,
+        );
+        let origin = cam.position + cam.basis[0] * (r * phi.cos()) + cam.basis[1] * (r * phi.sin());
+        Ray::new(origin, (focus - origin).normalize())
+    }
+
     /// Rays made side by side (`rays_as`, as bundles make them) are bit for bit the rays made
-    /// one at a time, under every camera mistake, with and without a thin lens.
+    /// one at a time, under every camera mistake, with and without a thin lens; and without
+    /// a mistake, bit for bit what glam's own vectors compute.
     #[test]
     fn rays_side_by_side_are_the_rays_one_at_a_time() {
         let mut cam = Camera::new(
@@ -297,10 +335,16 @@ mod tests {
             cam.aperture = aperture;
             for m in camera_mistakes {
                 let (o, d) = cam.rays_as(lanes(&films), Some(lanes(&lenses)), m);
+                let bits = |v: DVec3| v.to_array().map(f64::to_bits);
                 for i in 0..16 {
                     let one = cam.ray_as(films[i], Some(lenses[i]), m);
-                    assert_eq!(o.lane(i).to_array(), one.origin.to_array(), "{m:?} {i}");
-                    assert_eq!(d.lane(i).to_array(), one.dir.to_array(), "{m:?} {i}");
+                    assert_eq!(bits(o.lane(i)), bits(one.origin), "{m:?} {i}");
+                    assert_eq!(bits(d.lane(i)), bits(one.dir), "{m:?} {i}");
+                    if m == Mistakes::NONE {
+                        let glam = glam_ray(&cam, films[i], lenses[i]);
+                        assert_eq!(bits(one.origin), bits(glam.origin), "{i}");
+                        assert_eq!(bits(one.dir), bits(glam.dir), "{i}");
+                    }
                 }
             }
         }

@@ -9,10 +9,11 @@
 //! waiting on each in turn.
 
 use glam::{DMat4, DVec2, DVec3};
-use std::ops::{Add, Div, Mul, Neg, Sub};
+use std::ops::{Add, Div, Mul, MulAssign, Neg, Sub};
 
 /// A number the generic code runs on: `f64`, or [`Lanes`] of them. Operations with a plain
-/// `f64` on the right apply it to every lane.
+/// `f64` apply it to every lane (with the `f64` on the left too: code generic over `T`
+/// states that as `where f64: Mul<T, Output = T>`, and so on).
 pub trait Real:
     Copy
     + Add<Output = Self>
@@ -24,14 +25,13 @@ pub trait Real:
     + Sub<f64, Output = Self>
     + Mul<f64, Output = Self>
     + Div<f64, Output = Self>
+    + MulAssign<f64>
 {
     /// `x` in every lane.
     fn splat(x: f64) -> Self;
     fn sqrt(self) -> Self;
     fn cos(self) -> Self;
     fn sin(self) -> Self;
-    /// `1.0 − self` (glam's and the lecture's `1 − x`, with the constant on the left).
-    fn one_minus(self) -> Self;
 }
 
 impl Real for f64 {
@@ -50,10 +50,6 @@ impl Real for f64 {
     #[inline(always)]
     fn sin(self) -> f64 {
         f64::sin(self)
-    }
-    #[inline(always)]
-    fn one_minus(self) -> f64 {
-        1.0 - self
     }
 }
 
@@ -80,7 +76,7 @@ impl<const N: usize> Lanes<N> {
     }
 }
 
-/// The four operations, lane by lane and with a number in every lane.
+/// The four operations, lane by lane, and with a number in every lane on either side.
 macro_rules! lane_ops {
     ($($tr:ident $f:ident $op:tt),*) => {$(
         impl<const N: usize> $tr for Lanes<N> {
@@ -97,9 +93,23 @@ macro_rules! lane_ops {
                 self.map(|a| a $op o)
             }
         }
+        impl<const N: usize> $tr<Lanes<N>> for f64 {
+            type Output = Lanes<N>;
+            #[inline(always)]
+            fn $f(self, o: Lanes<N>) -> Lanes<N> {
+                o.map(|b| self $op b)
+            }
+        }
     )*};
 }
 lane_ops!(Add add +, Sub sub -, Mul mul *, Div div /);
+
+impl<const N: usize> MulAssign<f64> for Lanes<N> {
+    #[inline(always)]
+    fn mul_assign(&mut self, o: f64) {
+        *self = *self * o;
+    }
+}
 
 impl<const N: usize> Neg for Lanes<N> {
     type Output = Self;
@@ -125,10 +135,6 @@ impl<const N: usize> Real for Lanes<N> {
     #[inline(always)]
     fn sin(self) -> Self {
         self.map(f64::sin)
-    }
-    #[inline(always)]
-    fn one_minus(self) -> Self {
-        self.map(|a| 1.0 - a)
     }
 }
 
@@ -188,12 +194,19 @@ impl<T: Real> V3<T> {
         let recip = T::splat(1.0) / self.dot(self).sqrt();
         self * recip
     }
+}
 
+/// A 4×4 matrix applied to the points of [`V3`]s.
+pub trait TransformPoint<T> {
     /// glam's `DMat4::transform_point3` of the point `p`: x·col0, then col1·y + that,
     /// col2·z + that, col3 + that.
+    fn transform_point(&self, p: V3<T>) -> V3<T>;
+}
+
+impl<T: Real> TransformPoint<T> for DMat4 {
     #[inline(always)]
-    pub fn transformed_point(m: &DMat4, p: V3<T>) -> V3<T> {
-        let (c0, c1, c2, c3) = (m.x_axis, m.y_axis, m.z_axis, m.w_axis);
+    fn transform_point(&self, p: V3<T>) -> V3<T> {
+        let (c0, c1, c2, c3) = (self.x_axis, self.y_axis, self.z_axis, self.w_axis);
         let row = |a: f64, b: f64, c: f64, d: f64| {
             let r = p.x * a;
             let r = p.y * b + r;
@@ -223,10 +236,11 @@ impl<const N: usize> V3<Lanes<N>> {
     }
 }
 
-impl<T: Real> Sub for V2<T> {
+/// Moved by the same offset in every lane.
+impl<T: Real> Sub<DVec2> for V2<T> {
     type Output = Self;
     #[inline(always)]
-    fn sub(self, o: Self) -> Self {
+    fn sub(self, o: DVec2) -> Self {
         V2 {
             x: self.x - o.x,
             y: self.y - o.y,
@@ -303,15 +317,16 @@ mod tests {
                 y: Lanes::from_fn(|i| chunk[i].y),
                 z: Lanes::from_fn(|i| chunk[i].z),
             };
-            let moved = V3::transformed_point(&m, lanes);
+            let moved = m.transform_point(lanes);
             let unit = moved.normalize();
             let dots = lanes.dot(moved);
+            let bits = |v: DVec3| v.to_array().map(f64::to_bits);
             for (i, p) in chunk.iter().enumerate() {
                 let want = m.transform_point3(*p);
-                let scalar = V3::transformed_point(&m, V3::<f64>::splat(*p));
-                assert_eq!(scalar.glam().to_array(), want.to_array());
-                assert_eq!(moved.lane(i).to_array(), want.to_array());
-                assert_eq!(unit.lane(i).to_array(), want.normalize().to_array());
+                let scalar = m.transform_point(V3::<f64>::splat(*p));
+                assert_eq!(bits(scalar.glam()), bits(want));
+                assert_eq!(bits(moved.lane(i)), bits(want));
+                assert_eq!(bits(unit.lane(i)), bits(want.normalize()));
                 assert_eq!(dots.0[i].to_bits(), p.dot(want).to_bits());
             }
         }

@@ -147,9 +147,6 @@ pub fn trace_bundled(
                     samples.push((x, y, k, plan.films[(plan.starts[l] + k) as usize]));
                     pixels.push((l, (x, y)));
                 }
-                if pixels.is_empty() {
-                    continue;
-                }
                 camera_rays(scene, settings, &samples, &mut cams);
                 let cams = &mut cams[..pixels.len()];
                 hits.find(scene, cams, tally);

@@ -11,7 +11,7 @@ use glam::{DVec2, DVec3};
 pub(super) enum TileSamples {
     /// One sample per pixel, at its centre, of area 1 (the centre sampler without
     /// subsampling, [`super::sampler::only_centres`]): its colour is all that is not known
-    /// already, 24 bytes a pixel rather than a sample record and a list end (64). A render
+    /// already, 24 bytes a pixel rather than a sample record and a list end (60). A render
     /// writes every byte it keeps while its trace runs, into memory the system hands over
     /// page by page; keeping less made the default render's trace measurably faster.
     Centres(Vec<DVec3>),
@@ -22,6 +22,8 @@ pub(super) enum TileSamples {
     },
 }
 
+/// What a tile that was skipped (its render stopped) holds: nothing. Such a render is
+/// never reconstructed, so which kind it is does not matter.
 impl Default for TileSamples {
     fn default() -> Self {
         TileSamples::Centres(Vec::new())

@@ -516,7 +516,12 @@ fn the_centre_samplers_kept_colours_reconstruct_as_full_samples() {
     for file in ["scenes/whitted.json", "scenes/teapot.json"] {
         let mut base = scene(file);
         base.camera.update_size(45, 34);
-        for filter in [FilterKind::Box, FilterKind::Gaussian, FilterKind::Mitchell] {
+        for filter in [
+            FilterKind::Box,
+            FilterKind::Tent,
+            FilterKind::Gaussian,
+            FilterKind::Mitchell,
+        ] {
             for traversal in [
                 rtlab::accel::Traversal::Single,
                 rtlab::accel::Traversal::Bundle,
