@@ -391,8 +391,8 @@ impl Bvh {
                     leaf.prefetch(child..child + count);
                 }
                 stack.push(Pending {
-                    child: nd.child[lane],
-                    count: nd.count[lane],
+                    child: child as u32,
+                    count: count as u32,
                     rays,
                     t_first,
                 });

@@ -248,29 +248,23 @@ impl<T: Real> Sub<DVec2> for V2<T> {
     }
 }
 
-impl<T: Real> Add for V3<T> {
-    type Output = Self;
-    #[inline(always)]
-    fn add(self, o: Self) -> Self {
-        V3 {
-            x: self.x + o.x,
-            y: self.y + o.y,
-            z: self.z + o.z,
+/// Sum and difference, component by component.
+macro_rules! v3_ops {
+    ($($tr:ident $f:ident $op:tt),*) => {$(
+        impl<T: Real> $tr for V3<T> {
+            type Output = Self;
+            #[inline(always)]
+            fn $f(self, o: Self) -> Self {
+                V3 {
+                    x: self.x $op o.x,
+                    y: self.y $op o.y,
+                    z: self.z $op o.z,
+                }
+            }
         }
-    }
+    )*};
 }
-
-impl<T: Real> Sub for V3<T> {
-    type Output = Self;
-    #[inline(always)]
-    fn sub(self, o: Self) -> Self {
-        V3 {
-            x: self.x - o.x,
-            y: self.y - o.y,
-            z: self.z - o.z,
-        }
-    }
-}
+v3_ops!(Add add +, Sub sub -);
 
 impl<T: Real> Neg for V3<T> {
     type Output = Self;

@@ -191,20 +191,20 @@ fn render_with<R: Tally>(
             } else {
                 let most = tile.len() * (settings.spp as usize).min(16);
                 let mut kept = TileSamples::with_capacity(centres, tile.len(), most);
-                let mut samples = Vec::new();
+                let mut scratch = Vec::new();
                 for (x, y) in tile.pixels() {
                     if settings.cancel.is_cancelled() {
                         // Ctrl-C or a cancelled token: skip the rest; the caller writes nothing.
                         break;
                     }
                     let mut rec = R::default();
-                    samples.clear();
-                    sample_pixel_into(settings, w, h, x, y, &mut samples, |k, film| {
-                        let mut camera = camera_ray(scene, settings, x, y, k, film);
-                        let r = trace_camera(scene, settings, &mut camera, None, &mut rec);
-                        firsts.note(&r, (x, y, k))
+                    kept.push_pixel_with(&mut scratch, |out| {
+                        sample_pixel_into(settings, w, h, x, y, out, |k, film| {
+                            let mut camera = camera_ray(scene, settings, x, y, k, film);
+                            let r = trace_camera(scene, settings, &mut camera, None, &mut rec);
+                            firsts.note(&r, (x, y, k))
+                        })
                     });
-                    kept.push_pixel(&samples);
                     tally_pixel(rec);
                     // Pixel by pixel, so the bar moves while a slow tile is still being traced.
                     if let Some(p) = progress {

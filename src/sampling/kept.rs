@@ -43,15 +43,22 @@ impl TileSamples {
         }
     }
 
-    /// The next pixel's samples, in index order.
-    pub(super) fn push_pixel(&mut self, traced: &[PixelSample]) {
+    /// The next pixel's samples, in index order: `fill` appends them to the list it is
+    /// given (the tile's own, when whole records are kept; `scratch`, when only a colour is).
+    pub(super) fn push_pixel_with(
+        &mut self,
+        scratch: &mut Vec<PixelSample>,
+        fill: impl FnOnce(&mut Vec<PixelSample>),
+    ) {
         match self {
             TileSamples::Centres(colors) => {
-                debug_assert!(traced.len() == 1, "a centre pixel traces one sample");
-                colors.extend(traced.iter().map(|s| s.color));
+                scratch.clear();
+                fill(scratch);
+                debug_assert!(scratch.len() == 1, "a centre pixel traces one sample");
+                colors.extend(scratch.iter().map(|s| s.color));
             }
             TileSamples::Listed { samples, ends } => {
-                samples.extend_from_slice(traced);
+                fill(samples);
                 ends.push(samples.len() as u32);
             }
         }

@@ -8,6 +8,14 @@ use rtlab::sampling::{render, RenderOutput};
 use rtlab::scene::{FilterKind, SamplerKind, Scene};
 use rtlab::viz::compare::rmse_psnr;
 
+/// Every reconstruction filter.
+const FILTERS: [FilterKind; 4] = [
+    FilterKind::Box,
+    FilterKind::Tent,
+    FilterKind::Gaussian,
+    FilterKind::Mitchell,
+];
+
 fn with(scene: &Scene, sampler: SamplerKind, spp: u32) -> Scene {
     let mut s = scene.clone();
     s.render.sampler = sampler;
@@ -477,12 +485,7 @@ fn compare_and_steps_refuse_renders_too_large_for_memory() {
 fn subsampled_reconstruction_skips_only_empty_pixels() {
     let mut base = scene("scenes/spheres.json");
     base.camera.update_size(23, 17);
-    for filter in [
-        FilterKind::Box,
-        FilterKind::Tent,
-        FilterKind::Gaussian,
-        FilterKind::Mitchell,
-    ] {
+    for filter in FILTERS {
         for (k, sampler, spp) in [
             (2, SamplerKind::Center, 1),
             (3, SamplerKind::Center, 1),
@@ -516,12 +519,7 @@ fn the_centre_samplers_kept_colours_reconstruct_as_full_samples() {
     for file in ["scenes/whitted.json", "scenes/teapot.json"] {
         let mut base = scene(file);
         base.camera.update_size(45, 34);
-        for filter in [
-            FilterKind::Box,
-            FilterKind::Tent,
-            FilterKind::Gaussian,
-            FilterKind::Mitchell,
-        ] {
+        for filter in FILTERS {
             for traversal in [
                 rtlab::accel::Traversal::Single,
                 rtlab::accel::Traversal::Bundle,
