@@ -18,7 +18,8 @@
 //! /work/shared/meshes).
 //!
 //! `cargo bench --bench accel -- --only PASS MESH [REPEATS]` runs one pass alone (single,
-//! bundle, render, render-bundle, render-stats, shadow or shadow-bundle), for profilers.
+//! bundle, render, render-bundle, render-rays, render-walk, render-stats, shadow or
+//! shadow-bundle), for profilers.
 //!
 //! Everything runs on 2 threads (rtlab: a rayon pool of 2; Embree: `threads=2`).
 
@@ -117,6 +118,8 @@ fn only(args: &[String]) {
             "bundle" => (W * H) as f64 / bundle_pass(&scene, &cam, &pool).0 / 1e6,
             "render" => render_mrays(&view, rtlab::accel::Traversal::Single, &pool),
             "render-bundle" => render_mrays(&view, rtlab::accel::Traversal::Bundle, &pool),
+            "render-rays" => (W * H) as f64 / render_parts(&view, &pool, false) / 1e6,
+            "render-walk" => (W * H) as f64 / render_parts(&view, &pool, true) / 1e6,
             "shadow-bundle" => {
                 let (secs, v) = shadow_bundle_pass(&scene, &cam, &camera, &pool);
                 v.len() as f64 / secs / 1e6
@@ -129,7 +132,7 @@ fn only(args: &[String]) {
                 rays as f64 / secs / 1e6
             }
             _ => {
-                panic!("{pass}: not single, bundle, render, render-bundle, render-stats, shadow or shadow-bundle")
+                panic!("{pass}: not single, bundle, render, render-bundle, render-rays, render-walk, render-stats, shadow or shadow-bundle")
             }
         });
     }
@@ -493,6 +496,60 @@ fn render_mrays_counting(
     (W * H) as f64 / out.trace_seconds / 1e6
 }
 
+/// The bundled render's trace taken apart on its own view, through the functions `render`
+/// itself calls, block by block of its tiles: seconds to make every camera ray
+/// (`rtlab::trace::camera_rays`, which `render` uses), and to make them and walk them to
+/// their hits (`Accel::closest_bundle_into`). What the render adds on top (shading each hit
+/// and each miss, keeping its colour for the filter, the tile's plan) is its trace time
+/// minus the second.
+fn render_parts(view: &Scene, pool: &rayon::ThreadPool, walk: bool) -> f64 {
+    use rtlab::accel::{BundleCost, BUNDLE};
+    use rtlab::trace::{camera_rays, CameraRay};
+    let settings = &view.render;
+    let start = Instant::now();
+    let traced = per_tile(pool, |tile| {
+        let mut cams: [CameraRay; BUNDLE] = std::array::from_fn(|_| CameraRay {
+            ray: Ray::new(glam::DVec3::ZERO, glam::DVec3::Z),
+            film: glam::DVec2::ZERO,
+            lens: None,
+            rng: rtlab::math::Rng::keyed([0; 4]),
+        });
+        let mut rays = [Ray::new(glam::DVec3::ZERO, glam::DVec3::Z); BUNDLE];
+        let mut hits = [None; BUNDLE];
+        let mut samples = arrayvec::ArrayVec::<_, BUNDLE>::new();
+        let mut found = 0u32;
+        each_block(tile, |pixels| {
+            samples.clear();
+            for &(x, y, _) in pixels {
+                let centre = glam::DVec2::new(x as f64 + 0.5, y as f64 + 0.5);
+                samples.push((x as u32, y as u32, 0, centre));
+            }
+            camera_rays(view, settings, &samples, &mut cams);
+            let n = pixels.len();
+            for (ray, cam) in rays.iter_mut().zip(&cams[..n]) {
+                *ray = cam.ray;
+            }
+            if walk {
+                let mut cost = BundleCost::default();
+                view.accel.closest_bundle_into(
+                    &view.objects,
+                    &rays[..n],
+                    0.0,
+                    &mut cost,
+                    &mut hits,
+                );
+                found += hits[..n].iter().filter(|h| h.is_some()).count() as u32;
+            } else {
+                found += std::hint::black_box(&rays[..n]).len() as u32;
+            }
+        });
+        found
+    });
+    let seconds = start.elapsed().as_secs_f64();
+    std::hint::black_box(traced);
+    seconds
+}
+
 /// Pixel (x, y)'s shadow ray, as the harness casts it: from its camera hit (None for a miss)
 /// towards the light, with the distance to the light as t_max.
 fn shadow_ray(cam: &HarnessCamera, camera: &CameraPass, x: usize, y: usize) -> Option<(Ray, f64)> {
@@ -715,6 +772,8 @@ fn run_embree(bin: &Path, obj: &Path, ppm: &Path, modes: &str) -> Option<EmbreeR
 // ---------------------------------------------------------------- one mesh
 
 struct MeshRow {
+    /// Seconds of the bundled render's own camera rays: made; made and walked.
+    parts: (f64, f64),
     name: String,
     triangles: usize,
     load_s: f64,
@@ -793,7 +852,7 @@ fn bench_mesh(
     let (mut b, mut c, mut m, mut s) = (vec![], vec![], vec![], vec![]);
     let (mut eb, mut ec, mut es, mut em) = (vec![], vec![], vec![], vec![]);
     let (mut e8, mut e16, mut bu, mut rs, mut rb) = (vec![], vec![], vec![], vec![], vec![]);
-    let (mut rc, mut sb) = (vec![], vec![]);
+    let (mut rc, mut sb, mut pr, mut pw) = (vec![], vec![], vec![], vec![]);
     let view = render_view(obj, &cam, tmp);
     let mut last_embree = None;
     let mut last = None;
@@ -835,6 +894,8 @@ fn bench_mesh(
         bu.push((W * H) as f64 / bundled.0 / 1e6);
         rs.push(render_mrays(&view, rtlab::accel::Traversal::Single, pool));
         rb.push(render_mrays(&view, rtlab::accel::Traversal::Bundle, pool));
+        pr.push(render_parts(&view, pool, false));
+        pw.push(render_parts(&view, pool, true));
         rc.push(render_mrays_counting(
             &view,
             rtlab::accel::Traversal::Single,
@@ -892,6 +953,7 @@ fn bench_mesh(
         render: median(rs),
         render_bundle: median(rb),
         render_stats: median(rc),
+        parts: (median(pr), median(pw)),
         mesh_only: median(m),
         shadow: median(s),
         shadow_bundle: median(sb),
@@ -993,6 +1055,32 @@ fn print_mesh_table(rows: &[MeshRow]) {
     println!(
         "r+stats: the single-ray render counting as --stats does; /rndr: its speed / render's"
     );
+    println!();
+    println!("the bundled render's trace per camera ray, ns of wall time (2 threads; medians): its rays made, walked, and the rest");
+    println!(
+        "{:<17} | {:>7} {:>7} {:>7} {:>7} | {:>7} {:>7}",
+        "mesh", "rays", "walk", "rest", "render", "Embree1", "0.8x"
+    );
+    for r in rows {
+        let ns = |mrays: f64| 1e3 / mrays;
+        let per_ray = |seconds: f64| seconds * 1e9 / (W * H) as f64;
+        let (made, walked) = (per_ray(r.parts.0), per_ray(r.parts.1));
+        let render = ns(r.render_bundle);
+        let e = r.embree.as_ref();
+        let f = |x: Option<f64>| x.map_or("-".to_string(), |v| format!("{v:.1}"));
+        println!(
+            "{:<17} | {:>7.1} {:>7.1} {:>7.1} {:>7.1} | {:>7} {:>7}",
+            r.name,
+            made,
+            walked - made,
+            render - walked,
+            render,
+            f(e.map(|e| ns(e.camera))),
+            f(e.map(|e| ns(0.8 * e.camera))),
+        );
+    }
+    println!("rays: rtlab::trace::camera_rays over the view's 4x4 blocks; walk: their closest hits (Accel::closest_bundle_into); rest: the render's trace time minus both (shading, the colours kept for the filter, the tiles' plans)");
+    println!("Embree1: rtcIntersect1's time per ray; 0.8x: the render's trace time per ray at 0.8x rtcIntersect1");
     println!();
     println!(
         "checksums (camera rays: hits, Σt; shadow rays: occluded of rays) and memory per triangle"
