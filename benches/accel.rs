@@ -772,8 +772,6 @@ fn run_embree(bin: &Path, obj: &Path, ppm: &Path, modes: &str) -> Option<EmbreeR
 // ---------------------------------------------------------------- one mesh
 
 struct MeshRow {
-    /// Seconds of the bundled render's own camera rays: made; made and walked.
-    parts: (f64, f64),
     name: String,
     triangles: usize,
     load_s: f64,
@@ -787,6 +785,8 @@ struct MeshRow {
     render_bundle: f64,
     /// The single-ray render again, counting as `--stats` does.
     render_stats: f64,
+    /// Seconds of the bundled render's own camera rays: made; made and walked.
+    parts: (f64, f64),
     mesh_only: f64,
     shadow: f64,
     /// The same shadow rays in 4×4 bundles (`Accel::occluded_bundle`).
