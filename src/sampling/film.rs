@@ -4,7 +4,7 @@
 use super::bundles::{trace_bundled, BundleTally, TilePlan};
 use super::image::Image;
 use super::kept::TileSamples;
-use super::reconstruct::reconstruct_color;
+use super::reconstruct::{reconstruct_color, Kernel};
 use super::sampler::{only_centres, sample_pixel_into};
 use super::tiles::{row_major_order, tiles};
 use super::{Filter, PixelSample};
@@ -274,12 +274,13 @@ fn render_with<R: Tally>(
         .collect();
     let spp_map = Some(grid.iter().map(|&(kept, l)| kept.count(l)).collect());
     let filter = Filter::for_settings(settings);
+    let kernel = Kernel::new(&filter, settings.subsample);
     let pixels = (0..h)
         .into_par_iter()
         .flat_map_iter(|y| {
-            let grid = &grid;
+            let (grid, kernel) = (&grid, &kernel);
             (0..w).map(move |x| {
-                reconstruct_color(&filter, (x, y), (w, h), settings.subsample, |qx, qy| {
+                reconstruct_color(kernel, (x, y), (w, h), |qx, qy| {
                     let (kept, l) = grid[(qy * w + qx) as usize];
                     kept.of(l, (qx, qy))
                 })

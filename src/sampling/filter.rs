@@ -53,7 +53,7 @@ impl Filter {
         self.weight_1d(dx) * self.weight_1d(dy)
     }
 
-    fn weight_1d(&self, x: f64) -> f64 {
+    pub(super) fn weight_1d(&self, x: f64) -> f64 {
         let x = x.abs();
         if x > self.radius {
             return 0.0;
