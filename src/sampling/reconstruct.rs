@@ -78,59 +78,6 @@ impl<'f> Kernel<'f> {
     }
 }
 
-/// The rows (or columns) of pixels that may own samples: under `--subsample K`, the
-/// multiples of K and the last one ([`super::traces_samples`]); `Lines(1)`, every one.
-#[derive(Clone, Copy)]
-struct Lines(u32);
-
-impl Lines {
-    /// Those of lo..=hi (within 0..n), in increasing order.
-    #[inline]
-    fn within(self, lo: i64, hi: i64, n: u32) -> LinesWithin {
-        let (lo, hi) = (lo.max(0), hi.min(n as i64 - 1));
-        let k = self.0.max(1) as i64;
-        if k == 1 {
-            // Every line (no subsampling, the common case), without dividing.
-            return LinesWithin {
-                next: lo,
-                hi,
-                step: 1,
-                tail: None,
-            };
-        }
-        // The last line traces too; it is listed after the multiples, which are all below it.
-        let last = n as i64 - 1;
-        LinesWithin {
-            next: (lo + k - 1) / k * k,
-            hi,
-            step: k,
-            tail: (last >= lo && last <= hi && last % k != 0).then_some(last as u32),
-        }
-    }
-}
-
-/// [`Lines::within`]: `next`, `next + step`, … up to `hi`, then `tail`.
-struct LinesWithin {
-    next: i64,
-    hi: i64,
-    step: i64,
-    tail: Option<u32>,
-}
-
-impl Iterator for LinesWithin {
-    type Item = u32;
-    #[inline]
-    fn next(&mut self) -> Option<u32> {
-        if self.next <= self.hi {
-            let q = self.next as u32;
-            self.next += self.step;
-            Some(q)
-        } else {
-            self.tail.take()
-        }
-    }
-}
-
 /// Σ w·a·c and Σ w·a over the samples within the filter's reach of pixel (x, y), in the fixed
 /// order [`reconstruct`] documents, telling `weighed(qx, qy, k, w)` each nonzero weight.
 /// Only the pixels on the kernel's lines (both ways) are asked for samples; the others must
@@ -183,6 +130,59 @@ pub(super) fn reconstruct_color<I: IntoIterator<Item = (DVec2, DVec3, f64)>>(
     }
 }
 // ANCHOR_END: reconstruct
+
+/// The rows (or columns) of pixels that may own samples: under `--subsample K`, the
+/// multiples of K and the last one ([`super::traces_samples`]); `Lines(1)`, every one.
+#[derive(Clone, Copy)]
+struct Lines(u32);
+
+impl Lines {
+    /// Those of lo..=hi (within 0..n), in increasing order.
+    #[inline]
+    fn within(self, lo: i64, hi: i64, n: u32) -> LinesWithin {
+        let (lo, hi) = (lo.max(0), hi.min(n as i64 - 1));
+        let k = self.0.max(1) as i64;
+        if k == 1 {
+            // Every line (no subsampling, the common case), without dividing.
+            return LinesWithin {
+                next: lo,
+                hi,
+                step: 1,
+                tail: None,
+            };
+        }
+        // The last line traces too; it is listed after the multiples, which are all below it.
+        let last = n as i64 - 1;
+        LinesWithin {
+            next: (lo + k - 1) / k * k,
+            hi,
+            step: k,
+            tail: (last >= lo && last <= hi && last % k != 0).then_some(last as u32),
+        }
+    }
+}
+
+/// [`Lines::within`]: `next`, `next + step`, … up to `hi`, then `tail`.
+struct LinesWithin {
+    next: i64,
+    hi: i64,
+    step: i64,
+    tail: Option<u32>,
+}
+
+impl Iterator for LinesWithin {
+    type Item = u32;
+    #[inline]
+    fn next(&mut self) -> Option<u32> {
+        if self.next <= self.hi {
+            let q = self.next as u32;
+            self.next += self.step;
+            Some(q)
+        } else {
+            self.tail.take()
+        }
+    }
+}
 
 #[cfg(test)]
 mod tests {
