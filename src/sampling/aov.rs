@@ -360,8 +360,9 @@ pub fn trace_aov_samples(scene: &Scene, settings: &RenderSettings) -> AovSamples
                 trace_bundled(scene, settings, &tile, &plan, &mut tally, trace, |_| {});
             } else {
                 for (l, (x, y)) in tile.pixels().enumerate() {
-                    for (k, &film) in plan.films_of(l).iter().enumerate() {
-                        let mut camera = camera_ray(scene, settings, x, y, k as u32, film);
+                    for k in 0..plan.samples_of(l) {
+                        let film = plan.sample(l, (x, y), k).0;
+                        let mut camera = camera_ray(scene, settings, x, y, k, film);
                         out[l].push(aov_sample(scene, settings, &mut rec, &mut camera, None));
                     }
                 }

@@ -30,12 +30,14 @@ impl BundleTally {
     }
 }
 
-/// Where a tile's samples go: the film positions of every sample of the tile, pixel by
-/// pixel in the tile's row-major order; pixel `l`'s are `films[starts[l]..starts[l + 1]]`,
-/// by sample index.
-pub struct TilePlan {
-    pub films: Vec<DVec2>,
-    pub starts: Vec<u32>,
+/// Where a tile's samples go, pixel by pixel in the tile's row-major order, by sample index.
+pub enum TilePlan {
+    /// One sample at each pixel's centre (the common case): nothing to list, sample l of
+    /// the tile is pixel l's.
+    Centres { len: usize },
+    /// The film positions of every sample of the tile; pixel `l`'s are
+    /// `films[starts[l]..starts[l + 1]]`.
+    Listed { films: Vec<DVec2>, starts: Vec<u32> },
 }
 
 impl TilePlan {
@@ -43,15 +45,7 @@ impl TilePlan {
     /// sampler decides from what it sees): those pixels go alone.
     pub fn new(settings: &RenderSettings, width: u32, height: u32, tile: &Tile) -> Option<Self> {
         if only_centres(settings) {
-            // The common case, without asking pixel by pixel. (Room made first: collected
-            // from the rows' iterator, which cannot say its length, the list grew seven
-            // times a tile.)
-            let mut films = Vec::with_capacity(tile.len());
-            films.extend(tile.pixels().map(|(x, y)| centre(x, y)));
-            return Some(TilePlan {
-                films,
-                starts: (0..=tile.len() as u32).collect(),
-            });
+            return Some(TilePlan::Centres { len: tile.len() });
         }
         let mut films: Vec<DVec2> = Vec::with_capacity(tile.len());
         let mut starts: Vec<u32> = Vec::with_capacity(tile.len() + 1);
@@ -62,40 +56,63 @@ impl TilePlan {
             }
             starts.push(films.len() as u32);
         }
-        Some(TilePlan { films, starts })
+        Some(TilePlan::Listed { films, starts })
     }
 
     /// A plan of every pixel of `tile`, pixel (x, y)'s samples at `films(x, y)`.
     pub fn of(tile: &Tile, mut films: impl FnMut(u32, u32) -> Vec<DVec2>) -> Self {
-        let mut plan = TilePlan {
-            films: Vec::with_capacity(tile.len()),
-            starts: Vec::with_capacity(tile.len() + 1),
-        };
-        plan.starts.push(0);
+        let (mut all, mut starts) = (
+            Vec::with_capacity(tile.len()),
+            Vec::with_capacity(tile.len() + 1),
+        );
+        starts.push(0);
         for (x, y) in tile.pixels() {
-            plan.films.extend(films(x, y));
-            plan.starts.push(plan.films.len() as u32);
+            all.extend(films(x, y));
+            starts.push(all.len() as u32);
         }
-        plan
+        TilePlan::Listed { films: all, starts }
     }
 
-    /// The film positions of the tile's pixel `l`, by sample index.
-    pub fn films_of(&self, l: usize) -> &[DVec2] {
-        &self.films[self.starts[l] as usize..self.starts[l + 1] as usize]
+    /// Sample `k` of the tile's pixel `l`, at (x, y): its film position, and its place among
+    /// all the tile's samples.
+    #[inline]
+    pub fn sample(&self, l: usize, (x, y): (u32, u32), k: u32) -> (DVec2, usize) {
+        match self {
+            TilePlan::Centres { .. } => (centre(x, y), l),
+            TilePlan::Listed { films, starts } => {
+                let i = (starts[l] + k) as usize;
+                (films[i], i)
+            }
+        }
+    }
+
+    /// Where each pixel's samples end among the tile's (the first starts at 0).
+    pub fn ends(&self) -> Vec<u32> {
+        match self {
+            TilePlan::Centres { len } => (1..=*len as u32).collect(),
+            TilePlan::Listed { starts, .. } => starts[1..].to_vec(),
+        }
     }
 
     /// Samples in the tile.
     pub fn len(&self) -> usize {
-        self.films.len()
+        match self {
+            TilePlan::Centres { len } => *len,
+            TilePlan::Listed { films, .. } => films.len(),
+        }
     }
 
     pub fn is_empty(&self) -> bool {
-        self.films.is_empty()
+        self.len() == 0
     }
 
     /// Samples of the tile's pixel `l`.
-    fn samples_of(&self, l: usize) -> u32 {
-        self.starts[l + 1] - self.starts[l]
+    #[inline]
+    pub fn samples_of(&self, l: usize) -> u32 {
+        match self {
+            TilePlan::Centres { .. } => 1,
+            TilePlan::Listed { starts, .. } => starts[l + 1] - starts[l],
+        }
     }
 }
 
@@ -148,7 +165,7 @@ pub fn trace_bundled(
                 pixels.clear();
                 samples.clear();
                 for &(l, (x, y)) in block.iter().filter(|&&(l, _)| k < plan.samples_of(l)) {
-                    samples.push((x, y, k, plan.films[(plan.starts[l] + k) as usize]));
+                    samples.push((x, y, k, plan.sample(l, (x, y), k).0));
                     pixels.push((l, (x, y)));
                 }
                 camera_rays(scene, settings, &samples, &mut cams);

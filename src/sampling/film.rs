@@ -160,7 +160,7 @@ fn render_with<R: Tally>(
                 .then(|| TilePlan::new(settings, w, h, tile))
                 .flatten();
             let kept = if let Some(plan) = plan {
-                let mut kept = TileSamples::planned(centres, plan.len(), &plan.starts[1..]);
+                let mut kept = TileSamples::planned(centres, plan.len(), || plan.ends());
                 let mut recs: Vec<R> = (0..tile.len()).map(|_| R::default()).collect();
                 trace_bundled(
                     scene,
@@ -176,7 +176,7 @@ fn render_with<R: Tally>(
                             area: 1.0,
                             color: firsts.note(&r, (x, y, k)),
                         };
-                        kept.set((plan.starts[l] + k) as usize, sample);
+                        kept.set(plan.sample(l, (x, y), k).1, sample);
                     },
                     |pixels| {
                         if let Some(p) = progress {

@@ -64,15 +64,16 @@ impl TileSamples {
         }
     }
 
-    /// Samples laid out in advance: `films` samples in all, pixel l's ending at `ends[l]`
-    /// (one at each centre when `centres`), to be filled in by [`TileSamples::set`].
-    pub(super) fn planned(centres: bool, films: usize, ends: &[u32]) -> Self {
+    /// Samples laid out in advance: `films` samples in all, pixel l's ending at `ends()[l]`
+    /// (one at each centre when `centres`: then `ends` is not asked), to be filled in by
+    /// [`TileSamples::set`].
+    pub(super) fn planned(centres: bool, films: usize, ends: impl FnOnce() -> Vec<u32>) -> Self {
         if centres {
             TileSamples::Centres(vec![DVec3::ZERO; films])
         } else {
             TileSamples::Listed {
                 samples: vec![PixelSample::UNTRACED; films],
-                ends: ends.to_vec(),
+                ends: ends(),
             }
         }
     }

@@ -125,18 +125,22 @@ pub fn camera_rays(
         "a block holds 1 to {BUNDLE} camera rays, not {n}"
     );
     let mut lenses = [None; BUNDLE];
-    for (i, &(px, py, index, film)) in samples.iter().enumerate() {
+    // The film positions lane by lane; lanes past the last sample repeat it (their rays are
+    // not kept).
+    let last = samples[n - 1].3;
+    let mut film = V2 {
+        x: Lanes::<BUNDLE>([last.x; BUNDLE]),
+        y: Lanes::<BUNDLE>([last.y; BUNDLE]),
+    };
+    for (i, &(px, py, index, at)) in samples.iter().enumerate() {
         let (lens, rng) = lens_and_stream(scene, settings, px, py, index);
         lenses[i] = lens;
-        out[i].film = film;
+        out[i].film = at;
         out[i].rng = rng;
+        film.x.0[i] = at.x;
+        film.y.0[i] = at.y;
     }
-    // Lanes past the last sample repeat it; their rays are not kept.
     let lane = |i: usize| i.min(n - 1);
-    let film = V2 {
-        x: Lanes::<BUNDLE>::from_fn(|i| samples[lane(i)].3.x),
-        y: Lanes::from_fn(|i| samples[lane(i)].3.y),
-    };
     // Every sample draws a lens sample, or none does (the camera and settings decide).
     let lens = lenses[0].map(|_| {
         let at = |i: usize| lenses[lane(i)].unwrap_or_default();
