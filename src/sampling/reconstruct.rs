@@ -93,17 +93,25 @@ fn accumulate<I: IntoIterator<Item = (DVec2, DVec3, f64)>>(
     let centre_of = centre(x, y);
     let (reach, lines) = (kernel.reach, kernel.lines);
     let (mut sum, mut total) = (DVec3::ZERO, 0.0);
-    let (x, y) = (x as i64, y as i64);
-    for qy in lines.within(y - reach, y + reach, height) {
-        for qx in lines.within(x - reach, x + reach, width) {
-            let offset = (qx as i64 - x, qy as i64 - y);
-            for (k, (film, color, area)) in samples_of(qx, qy).into_iter().enumerate() {
-                let w = kernel.weight(film, (qx, qy), centre_of, offset) * area;
-                if w != 0.0 {
-                    sum += w * color;
-                    total += w;
-                    weighed(qx, qy, k, w);
-                }
+    let mut visit = |qx: u32, qy: u32| {
+        let offset = (qx as i64 - x as i64, qy as i64 - y as i64);
+        for (k, (film, color, area)) in samples_of(qx, qy).into_iter().enumerate() {
+            let w = kernel.weight(film, (qx, qy), centre_of, offset) * area;
+            if w != 0.0 {
+                sum += w * color;
+                total += w;
+                weighed(qx, qy, k, w);
+            }
+        }
+    };
+    if reach == 0 && lines.0 <= 1 {
+        // Only the pixel's own samples reach it (the box filter, every pixel tracing).
+        visit(x, y);
+    } else {
+        let (x, y) = (x as i64, y as i64);
+        for qy in lines.within(y - reach, y + reach, height) {
+            for qx in lines.within(x - reach, x + reach, width) {
+                visit(qx, qy);
             }
         }
     }
