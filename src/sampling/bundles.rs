@@ -86,26 +86,6 @@ impl TilePlan {
         }
     }
 
-    /// Where each pixel's samples end among the tile's (the first starts at 0).
-    pub fn ends(&self) -> Vec<u32> {
-        match self {
-            TilePlan::Centres { len } => (1..=*len as u32).collect(),
-            TilePlan::Listed { starts, .. } => starts[1..].to_vec(),
-        }
-    }
-
-    /// Samples in the tile.
-    pub fn len(&self) -> usize {
-        match self {
-            TilePlan::Centres { len } => *len,
-            TilePlan::Listed { films, .. } => films.len(),
-        }
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-
     /// Samples of the tile's pixel `l`.
     #[inline]
     pub fn samples_of(&self, l: usize) -> u32 {

@@ -160,7 +160,7 @@ fn render_with<R: Tally>(
                 .then(|| TilePlan::new(settings, w, h, tile))
                 .flatten();
             let kept = if let Some(plan) = plan {
-                let mut kept = TileSamples::planned(centres, plan.len(), || plan.ends());
+                let mut kept = TileSamples::planned(&plan);
                 let mut recs: Vec<R> = (0..tile.len()).map(|_| R::default()).collect();
                 trace_bundled(
                     scene,

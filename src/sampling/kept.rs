@@ -2,6 +2,7 @@
 //! image from them: every sample's film position, colour and area, or, when every pixel
 //! traces exactly one sample at its centre, the colours alone.
 
+use super::bundles::TilePlan;
 use super::sampler::centre;
 use super::PixelSample;
 use glam::{DVec2, DVec3};
@@ -64,17 +65,15 @@ impl TileSamples {
         }
     }
 
-    /// Samples laid out in advance: `films` samples in all, pixel l's ending at `ends()[l]`
-    /// (one at each centre when `centres`: then `ends` is not asked), to be filled in by
-    /// [`TileSamples::set`].
-    pub(super) fn planned(centres: bool, films: usize, ends: impl FnOnce() -> Vec<u32>) -> Self {
-        if centres {
-            TileSamples::Centres(vec![DVec3::ZERO; films])
-        } else {
-            TileSamples::Listed {
-                samples: vec![PixelSample::UNTRACED; films],
-                ends: ends(),
-            }
+    /// Room for the samples of `plan`, to be filled in by [`TileSamples::set`]: a colour for
+    /// each pixel of a plan of centres, whole records for a listed one.
+    pub(super) fn planned(plan: &TilePlan) -> Self {
+        match plan {
+            TilePlan::Centres { len } => TileSamples::Centres(vec![DVec3::ZERO; *len]),
+            TilePlan::Listed { films, starts } => TileSamples::Listed {
+                samples: vec![PixelSample::UNTRACED; films.len()],
+                ends: starts[1..].to_vec(),
+            },
         }
     }
 
