@@ -1,6 +1,7 @@
 //! A sample's camera ray: made from (seed, pixel, sample index), then traced.
 
 use super::Tracer;
+use crate::accel::isa::{self, Kernel, Wide};
 use crate::accel::BUNDLE;
 use crate::camera::RayGeneration;
 use crate::math::lanes::{Lanes, V2};
@@ -111,9 +112,41 @@ fn lens_and_stream(
 /// The camera rays of up to [`BUNDLE`] samples, `samples[i]` = (pixel x, y, sample index,
 /// film position), written to `out[i]`: each exactly what [`camera_ray`] makes of it (its
 /// random stream and lens sample drawn the same way), the rays generated side by side
-/// ([`crate::camera::Camera::rays_as`]) rather than one after another.
-#[inline(always)]
+/// ([`crate::camera::Camera::rays_as`]) rather than one after another, compiled for the
+/// widest SIMD the processor has ([`isa::run`]: the same IEEE operations lane by lane, so
+/// the same bits at every level).
 pub fn camera_rays(
+    scene: &Scene,
+    settings: &RenderSettings,
+    samples: &[(u32, u32, u32, DVec2)],
+    out: &mut [CameraRay],
+) {
+    isa::run(MakeRays {
+        scene,
+        settings,
+        samples,
+        out,
+    })
+}
+
+/// [`camera_rays`]' work, compiled at each SIMD level.
+struct MakeRays<'a> {
+    scene: &'a Scene,
+    settings: &'a RenderSettings,
+    samples: &'a [(u32, u32, u32, DVec2)],
+    out: &'a mut [CameraRay],
+}
+
+impl Kernel for MakeRays<'_> {
+    type Output = ();
+    #[inline(always)]
+    fn run<W: Wide>(self, _: W) {
+        make_rays(self.scene, self.settings, self.samples, self.out)
+    }
+}
+
+#[inline(always)]
+fn make_rays(
     scene: &Scene,
     settings: &RenderSettings,
     samples: &[(u32, u32, u32, DVec2)],
