@@ -158,6 +158,28 @@ impl Level {
     }
 }
 
+/// The levels this processor can run (for tests that compare them), narrowest first.
+#[cfg(test)]
+pub(crate) fn levels() -> Vec<Level> {
+    [Level::Base, Level::Avx2, Level::Avx512]
+        .into_iter()
+        .filter(|l| l.rank() <= detected().rank())
+        .collect()
+}
+
+/// Runs `k` compiled for `level`, which must be one of [`levels`] (for tests).
+#[cfg(test)]
+pub(crate) fn run_at<K: Kernel>(level: Level, k: K) -> K::Output {
+    assert!(level.rank() <= detected().rank(), "{level:?} not available");
+    match level {
+        #[cfg(target_arch = "x86_64")]
+        Level::Avx512 => x86::avx512(k),
+        #[cfg(target_arch = "x86_64")]
+        Level::Avx2 => x86::avx2(k),
+        _ => k.run(Portable),
+    }
+}
+
 #[cfg(target_arch = "x86_64")]
 fn detected() -> Level {
     x86::detected()

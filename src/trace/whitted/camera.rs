@@ -209,3 +209,61 @@ pub fn trace_camera<R: Recorder>(
         cut: tracer.budget.cut(),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A block's camera rays, made side by side at every SIMD level this processor has, are
+    /// bit for bit the rays made one at a time ([`camera_ray`]), with and without a lens, and
+    /// for a block short of sixteen.
+    #[test]
+    fn a_blocks_rays_at_every_level_are_the_rays_made_alone() {
+        let file = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/spheres.json");
+        let mut scene = Scene::load(&file).unwrap();
+        let mut settings = scene.render.clone();
+        let mut rng = Rng::new(&[5, 1230]);
+        let samples: Vec<(u32, u32, u32, DVec2)> = (0..16u32)
+            .map(|i| {
+                let (x, y) = (17 + i % 4, 9 + i / 4);
+                let at = DVec2::new(x as f64 + rng.next_f64(), y as f64 + rng.next_f64());
+                (x, y, i % 3, at)
+            })
+            .collect();
+        let bits = |r: &Ray| [r.origin, r.dir].map(|v| v.to_array().map(f64::to_bits));
+        let mut compared = 0;
+        for aperture in [0.0, 0.2] {
+            scene.camera.aperture = aperture;
+            settings.depth_of_field = aperture > 0.0;
+            for n in [16, 11] {
+                let samples = &samples[..n];
+                let alone: Vec<CameraRay> = samples
+                    .iter()
+                    .map(|&(x, y, k, at)| camera_ray(&scene, &settings, x, y, k, at))
+                    .collect();
+                for level in isa::levels() {
+                    let mut out: Vec<CameraRay> = alone.iter().map(|_| alone[0].clone()).collect();
+                    let (scene, settings) = (&scene, &settings);
+                    let out_ = &mut out[..];
+                    isa::run_at(
+                        level,
+                        MakeRays {
+                            scene,
+                            settings,
+                            samples,
+                            out: out_,
+                        },
+                    );
+                    for (i, (a, b)) in alone.iter().zip(&out).enumerate() {
+                        let what = format!("{level:?}, aperture {aperture}, {n} rays, ray {i}");
+                        assert_eq!(bits(&a.ray), bits(&b.ray), "{what}");
+                        assert_eq!(a.film, b.film, "{what}");
+                        assert_eq!(a.lens, b.lens, "{what}");
+                        compared += 1;
+                    }
+                }
+            }
+        }
+        assert!(compared >= 2 * 27, "{compared}");
+    }
+}
