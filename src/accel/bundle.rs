@@ -266,6 +266,15 @@ pub trait BundleLeaf {
     /// `t_max[i]` for each ray that hit it closer (and keeping the hit itself).
     fn test(&mut self, k: usize, rays: u32, t_max: &mut [f64; BUNDLE]);
 
+    /// Tests primitive slots `ks` against ray `i` alone: what `test` does for each of them
+    /// in order with that ray only (a leaf may test them side by side).
+    #[inline(always)]
+    fn test_alone(&mut self, ks: std::ops::Range<usize>, i: usize, t_max: &mut [f64; BUNDLE]) {
+        for k in ks {
+            self.test(k, 1 << i, t_max);
+        }
+    }
+
     /// Primitive slots `ks` will be tested soon: a leaf may start loading them
     /// ([`super::isa::prefetch`]).
     #[inline(always)]
@@ -586,6 +595,14 @@ impl<L: BundleLeaf> Visit<()> for OneRay<'_, L> {
         self.leaf.test(k, 1 << self.i, self.t_max);
         let t = self.t_max[self.i];
         (t < best).then_some((t, ()))
+    }
+
+    #[inline(always)]
+    fn test_leaf(&mut self, ks: std::ops::Range<usize>, best: f64) -> Option<(usize, f64, ())> {
+        let first = ks.start;
+        self.leaf.test_alone(ks, self.i, self.t_max);
+        let t = self.t_max[self.i];
+        (t < best).then_some((first, t, ()))
     }
 }
 

@@ -403,6 +403,66 @@ impl<W: Wide> Faces<'_, '_, W> {
         }
     }
 
+    /// Calls `hit(k, weights, t_max)` for each face slot `k` of `ks`, in order, that ray `i`
+    /// hits within [t_min, t_max[i]]: what [`Faces::hits`] says of each of them for that ray
+    /// alone. A leaf's faces are taken [`SIDE_BY_SIDE`] at a time: the part of Cramer's rule
+    /// that does not depend on t_max ([`FaceFrom`] and the [`Numerators`]) is computed for
+    /// them together, lane by lane with the same operations as glam's `cross` and `dot` (so
+    /// the same bits), and each face that passes the inside test is solved alone, in slot
+    /// order, against the best t so far.
+    #[inline(always)]
+    fn hits_alone(
+        &self,
+        ks: std::ops::Range<usize>,
+        i: usize,
+        t_max: &mut [f64; BUNDLE],
+        mut hit: impl FnMut(usize, Barycentric, &mut [f64; BUNDLE]),
+    ) {
+        let ray = &self.b.rays[i];
+        let (o, m) = (ray.origin.to_array(), (-ray.dir).to_array());
+        let mut first = ks.start;
+        while first < ks.end {
+            let n = (ks.end - first).min(SIDE_BY_SIDE);
+            // Lanes past the leaf's last face repeat it (their answers are not read).
+            let corner = |v: usize| -> [Side; 3] {
+                std::array::from_fn(|ax| {
+                    std::array::from_fn(|j| {
+                        self.mesh.packed[first + j.min(n - 1)].corners[v][ax] as f64
+                    })
+                })
+            };
+            let (a, b, c) = (corner(0), corner(1), corner(2));
+            let e1 = sub3(&b, &a);
+            let e2 = sub3(&c, &a);
+            let s: [Side; 3] = std::array::from_fn(|ax| std::array::from_fn(|j| o[ax] - a[ax][j]));
+            let normal = cross3(&e1, &e2);
+            let s_x_e2 = cross3(&s, &e2);
+            let e1_x_s = cross3(&e1, &s);
+            let (det, beta, gamma) = (dot3(&m, &normal), dot3(&m, &s_x_e2), dot3(&m, &e1_x_s));
+            for j in 0..n {
+                let nums = Numerators {
+                    determinant: det[j],
+                    beta: beta[j],
+                    gamma: gamma[j],
+                };
+                if !nums.inside() {
+                    continue;
+                }
+                let lane = |v: &[Side; 3]| DVec3::new(v[0][j], v[1][j], v[2][j]);
+                let face = FaceFrom {
+                    s: lane(&s),
+                    n: lane(&normal),
+                    s_x_e2: lane(&s_x_e2),
+                    e1_x_s: lane(&e1_x_s),
+                };
+                if let Some(w) = face.solve(&nums, self.t_min, t_max[i]) {
+                    hit(first + j, w, t_max);
+                }
+            }
+            first += n;
+        }
+    }
+
     /// [`FaceFrom::numerators`] for all sixteen rays at once (the same products and sums in
     /// the same order: the dot products of glam's `DVec3`, lane by lane), and the rays for
     /// which [`Numerators::inside`] holds.
@@ -425,6 +485,34 @@ impl<W: Wide> Faces<'_, '_, W> {
             | (negative & w.le_d(beta, zero) & w.le_d(gamma, zero));
         (inside, [w.store_d(det), w.store_d(beta), w.store_d(gamma)])
     }
+}
+
+/// Faces a lone ray tests side by side ([`Faces::hits_alone`]): a leaf holds two on most
+/// meshes, up to eight.
+const SIDE_BY_SIDE: usize = 4;
+
+/// One coordinate of [`SIDE_BY_SIDE`] faces.
+type Side = [f64; SIDE_BY_SIDE];
+
+/// u − v, lane by lane.
+#[inline(always)]
+fn sub3(u: &[Side; 3], v: &[Side; 3]) -> [Side; 3] {
+    std::array::from_fn(|ax| std::array::from_fn(|j| u[ax][j] - v[ax][j]))
+}
+
+/// u × v lane by lane, as glam's `DVec3::cross`: x = u.y·v.z − v.y·u.z, and so on.
+#[inline(always)]
+fn cross3(u: &[Side; 3], v: &[Side; 3]) -> [Side; 3] {
+    let c = |p: usize, q: usize| -> Side {
+        std::array::from_fn(|j| u[p][j] * v[q][j] - v[p][j] * u[q][j])
+    };
+    [c(1, 2), c(2, 0), c(0, 1)]
+}
+
+/// m · v for one vector m and each lane of v, as glam's `DVec3::dot`: (m.x·v.x + m.y·v.y) + m.z·v.z.
+#[inline(always)]
+fn dot3(m: &[f64; 3], v: &[Side; 3]) -> Side {
+    std::array::from_fn(|j| (m[0] * v[0][j] + m[1] * v[1][j]) + m[2] * v[2][j])
 }
 
 /// m · v for the sixteen directions `m` (lane by lane) and one vector: glam's `DVec3::dot`,
@@ -453,18 +541,40 @@ struct ClosestLeaf<'a, 'r, W, S> {
     seen: S,
 }
 
+/// Keeps face slot `k`, hit by ray `i` with weights `w`, if it wins over ray i's best so far
+/// ([`face_wins`]), lowering its t_max.
+#[inline(always)]
+fn keep_face(
+    best: &mut [Option<(usize, Barycentric)>; BUNDLE],
+    i: usize,
+    k: usize,
+    w: Barycentric,
+    t_max: &mut [f64; BUNDLE],
+) {
+    let best_k = best[i].as_ref().map_or(usize::MAX, |(bk, _)| *bk);
+    if face_wins(w.t, k, t_max[i], best_k) {
+        t_max[i] = w.t;
+        best[i] = Some((k, w));
+    }
+}
+
 impl<W: Wide, S: FnMut(usize, usize, u32)> BundleLeaf for ClosestLeaf<'_, '_, W, S> {
     #[inline(always)]
     fn test(&mut self, k: usize, rays: u32, t_max: &mut [f64; BUNDLE]) {
         count(self.tests, rays);
         let best = &mut self.best;
         self.faces.hits(k, rays, t_max, |i, w, t_max| {
-            let best_k = best[i].as_ref().map_or(usize::MAX, |(bk, _)| *bk);
-            if face_wins(w.t, k, t_max[i], best_k) {
-                t_max[i] = w.t;
-                best[i] = Some((k, w));
-            }
+            keep_face(best, i, k, w, t_max)
         });
+    }
+
+    /// The faces side by side ([`Faces::hits_alone`]): the same answers as `test` on each.
+    #[inline(always)]
+    fn test_alone(&mut self, ks: std::ops::Range<usize>, i: usize, t_max: &mut [f64; BUNDLE]) {
+        self.tests[i] += ks.len() as u32;
+        let best = &mut self.best;
+        self.faces
+            .hits_alone(ks, i, t_max, |k, w, t_max| keep_face(best, i, k, w, t_max));
     }
 
     #[inline(always)]

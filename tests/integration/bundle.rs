@@ -298,3 +298,89 @@ fn stats_name_the_simd_level_the_bundles_ran_on() {
         }
     }
 }
+
+/// Bundles find each ray's own closest face, bit for bit, where the order of the tests could
+/// matter most: rays from one eye (camera rays, shared-origin face tests), from many points
+/// (shadow-like rays) and in every direction (a bundle that walks ray by ray), aimed at a
+/// heightfield's corners, where six faces meet, and at the midpoints of its edges, where
+/// two do (the tie goes to the lower slot whichever face is tested first), and at random
+/// points; full bundles and short ones, at the SIMD level this processor has.
+#[test]
+fn bundles_find_each_rays_own_face_on_corners_and_edges() {
+    let n = 24;
+    let mut rng = rtlab::math::Rng::new(&[21, 4]);
+    let mut obj = String::new();
+    let mut corners = Vec::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            let (x, z) = (i as f64 / n as f64 - 0.5, j as f64 / n as f64 - 0.5);
+            let y = 0.08 * rng.next_f64() - 0.04;
+            obj += &format!("v {x} {y} {z}\n");
+            corners.push(glam::DVec3::new(x, y, z).as_vec3().as_dvec3());
+        }
+    }
+    let at = |i: usize, j: usize| j * (n + 1) + i + 1;
+    for j in 0..n {
+        for i in 0..n {
+            let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+            obj += &format!("f {a} {b} {c}\nf {a} {c} {d}\n");
+        }
+    }
+    let obj = write_tmp("heightfield.obj", &obj);
+    let scene = serde_json::json!({
+        "camera": {"position": [0.3, 1.2, 1.4], "look_at": [0, 0, 0], "fov_y": 40},
+        "objects": [{"shape": "mesh", "file": obj.to_str().unwrap()}]
+    });
+    let scene = write_tmp("heightfield.json", &scene.to_string());
+    let scene = rtlab::scene::Scene::load(&scene).unwrap();
+    let eye = glam::DVec3::new(0.3, 1.2, 1.4);
+    let mut targets = Vec::new();
+    for (k, &c) in corners.iter().enumerate() {
+        targets.push(c);
+        if k + 1 < corners.len() {
+            targets.push((c + corners[k + 1]) * 0.5);
+        }
+    }
+    for _ in 0..200 {
+        targets.push(glam::DVec3::new(
+            rng.next_f64() - 0.5,
+            0.0,
+            rng.next_f64() - 0.5,
+        ));
+    }
+    let mut compared = [0usize; 2];
+    for (way, chunk) in [(0, 16), (1, 16), (2, 16), (0, 11), (1, 7)] {
+        for aims in targets.chunks(chunk) {
+            let rays: Vec<rtlab::math::Ray> = aims
+                .iter()
+                .map(|&p| {
+                    let mut r = || rng.next_f64() - 0.5;
+                    let origin = match way {
+                        0 => eye,
+                        1 => eye + glam::DVec3::new(r(), r(), r()) * 0.3,
+                        _ => p + glam::DVec3::new(r(), r(), r()),
+                    };
+                    rtlab::math::Ray::new(origin, p - origin)
+                })
+                .collect();
+            let mut cost = rtlab::accel::BundleCost::default();
+            let together = scene
+                .accel
+                .closest_bundle(&scene.objects, &rays, 0.0, &mut cost);
+            for (i, ray) in rays.iter().enumerate() {
+                let mut no = rtlab::trace::NoRecorder::default();
+                let alone = scene
+                    .accel
+                    .closest(&scene.objects, ray, 0.0, f64::INFINITY, &mut no);
+                assert_eq!(
+                    format!("{:?}", together[i]),
+                    format!("{alone:?}"),
+                    "way {way}, ray {i} of {}: {ray:?}",
+                    rays.len()
+                );
+                compared[alone.is_some() as usize] += 1;
+            }
+        }
+    }
+    assert!(compared[1] > 2000, "{compared:?}");
+}

@@ -190,14 +190,12 @@ impl Bvh {
                         next = nearest_pushing_rest(stack, node, mask, &near);
                         continue;
                     }
-                } else {
-                    for k in child..child + count as usize {
-                        if let Some((t, data)) = test.test(k, t_max) {
-                            t_max = t;
-                            t_max32 = up(t);
-                            best = Some((k, data));
-                        }
-                    }
+                } else if let Some((k, t, data)) =
+                    test.test_leaf(child..child + count as usize, t_max)
+                {
+                    t_max = t;
+                    t_max32 = up(t);
+                    best = Some((k, data));
                 }
             }
             match stack.pop() {
@@ -321,6 +319,21 @@ impl Bvh {
 /// `#[inline(always)]`) is inlined for certain, which the bundles' SIMD kernels need.
 pub trait Visit<T> {
     fn test(&mut self, k: usize, t_max: f64) -> Option<(f64, T)>;
+
+    /// A leaf's slots `ks`, in order, each within the best t so far: the last slot that
+    /// lowered it, the t and its data. (A visitor may test them side by side, as long as
+    /// the answer is this loop's.)
+    #[inline(always)]
+    fn test_leaf(&mut self, ks: std::ops::Range<usize>, mut t_max: f64) -> Option<(usize, f64, T)> {
+        let mut best = None;
+        for k in ks {
+            if let Some((t, data)) = self.test(k, t_max) {
+                t_max = t;
+                best = Some((k, t, data));
+            }
+        }
+        best
+    }
 }
 
 impl<T, F: FnMut(usize, f64) -> Option<(f64, T)>> Visit<T> for F {
