@@ -6,6 +6,7 @@ mod bundle;
 mod bvh;
 pub mod isa;
 mod lanes;
+pub mod pages;
 
 pub use bundle::{Bits, BundleAnyLeaf, BundleLeaf, BundleWork, RayBundle, BUNDLE, FEW};
 pub use bvh::{Bvh, Node, WIDTH};

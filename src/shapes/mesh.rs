@@ -91,11 +91,13 @@ impl Mesh {
         use rayon::prelude::*;
         let corners = |f: &[u32; 3]| f.map(|i| positions[i as usize]);
         let bvh = Bvh::build_with(faces.len(), |i| Aabb::around(&corners(&faces[i])));
-        let packed = bvh
-            .prims
-            .par_iter()
-            .map(|&i| PackedFace::new(&corners(&faces[i as usize])))
-            .collect();
+        // Rays read the faces at every leaf: huge pages, as the BVH's nodes.
+        let mut packed = crate::accel::pages::vec_on_huge_pages(faces.len());
+        packed.par_extend(
+            bvh.prims
+                .par_iter()
+                .map(|&i| PackedFace::new(&corners(&faces[i as usize]))),
+        );
         (bvh, packed)
     }
 

@@ -3,6 +3,7 @@
 
 use super::slab::{down, up};
 use super::{Bvh, Node, MAX_DEPTH, MAX_LEAF, WIDTH};
+use crate::accel::pages::onto_huge_pages;
 use crate::shapes::Aabb;
 use arrayvec::ArrayVec;
 use glam::Vec3A;
@@ -168,9 +169,10 @@ impl Bvh {
         };
         subtree(&input, &mut prims, range, slots);
         drop(input); // the boxes are in the nodes now: free them before the collapse
+                     // The arrays rays walk, on huge pages when big (`crate::accel::pages`).
         Bvh {
-            nodes: collapse(&binary),
-            prims,
+            nodes: onto_huge_pages(collapse(&binary)),
+            prims: onto_huge_pages(prims),
         }
     }
     // ANCHOR_END: build
