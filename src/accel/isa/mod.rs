@@ -17,7 +17,8 @@
 //! plain arrays of `f64` (`crate::trace::camera_rays`), are made through [`run`] with no
 //! `Wide` at all, and take two thirds of the instructions they take at SSE2.)
 //!
-//! The submodule `x86` holds the crate's only `unsafe` code: the intrinsics of AVX2 and
+//! The submodule `x86` holds the crate's `unsafe` code (but for one `madvise` call in
+//! [`crate::accel::pages`]): the intrinsics of AVX2 and
 //! AVX-512, and the calls into functions compiled for them, made only after
 //! `is_x86_feature_detected!` has said the instructions are there (the tokens that prove it
 //! cannot be made otherwise).

@@ -1,5 +1,6 @@
 //! AVX2 and AVX-512: the [`Wide`] operations as intrinsics, and the entry points compiled
-//! for those instructions. The only `unsafe` code in rtlab.
+//! for those instructions. rtlab's `unsafe` code, but for one `madvise` call in
+//! [`crate::accel::pages`].
 //!
 //! Soundness rests on one rule: the tokens [`Avx2`] and [`Avx512`] have private fields, so
 //! they exist only inside `run_avx2` and `run_avx512`, which are called only after
