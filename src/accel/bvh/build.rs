@@ -169,8 +169,8 @@ impl Bvh {
         };
         subtree(&input, &mut prims, range, slots);
         drop(input); // the boxes are in the nodes now: free them before the collapse
-                     // The arrays rays walk, on huge pages when big (`crate::accel::pages`).
         Bvh {
+            // The arrays rays walk, on huge pages when big (`crate::accel::pages`).
             nodes: onto_huge_pages(collapse(&binary)),
             prims: onto_huge_pages(prims),
         }
