@@ -3,7 +3,7 @@
 
 use super::slab::{down, up};
 use super::{Bvh, Node, MAX_DEPTH, MAX_LEAF, WIDTH};
-use crate::accel::pages::onto_huge_pages;
+use crate::accel::pages::vec_on_huge_pages;
 use crate::shapes::Aabb;
 use arrayvec::ArrayVec;
 use glam::Vec3A;
@@ -142,7 +142,10 @@ impl Bvh {
             .collect();
         let centroids: Vec<Vec3A> = boxes.par_iter().map(|b| (b.min + b.max) * 0.5).collect();
         let input = Input { boxes, centroids };
-        let mut prims: Vec<u32> = (0..input.boxes.len() as u32).collect();
+        // The leaf order and the nodes are arrays rays walk: on huge pages when big
+        // (`crate::accel::pages`), asked for as they are made, not copied there after.
+        let mut prims: Vec<u32> = vec_on_huge_pages(n);
+        prims.extend(0..n as u32);
         let (bounds, centroid_bounds) = prims
             .par_chunks(PARALLEL_MIN)
             .map(|chunk| bounds_of(&input, chunk))
@@ -170,9 +173,8 @@ impl Bvh {
         subtree(&input, &mut prims, range, slots);
         drop(input); // the boxes are in the nodes now: free them before the collapse
         Bvh {
-            // The arrays rays walk, on huge pages when big (`crate::accel::pages`).
-            nodes: onto_huge_pages(collapse(&binary)),
-            prims: onto_huge_pages(prims),
+            nodes: collapse(&binary),
+            prims,
         }
     }
     // ANCHOR_END: build
@@ -183,7 +185,8 @@ impl Bvh {
 /// children until it holds four (or only leaves are left). Halves the depth, so a ray opens
 /// about half as many nodes and tests four boxes with each.
 fn collapse(binary: &[BinNode]) -> Vec<Node> {
-    let mut nodes = Vec::with_capacity(binary.len() / 4 + 1);
+    // Only the top of the tree goes here; the whole array is made once its size is known.
+    let mut nodes = Vec::with_capacity(WIDTH * COLLAPSE_SUBTREES);
     nodes.push(Node::EMPTY);
     // The top of the tree breadth first, until there are subtrees enough to share among the
     // threads; each is then collapsed on its own and appended in this order (so the layout
@@ -229,8 +232,14 @@ fn collapse(binary: &[BinNode]) -> Vec<Node> {
     for ((&(_, w), part), &shift) in frontier.iter().zip(&parts).zip(&shifts) {
         nodes[w] = fix(&part[0], shift);
     }
-    // The rest is copied in parallel, each part into its own stretch of the array.
+    // The rest is copied in parallel, each part into its own stretch of the array, which is
+    // made here at its final size (on huge pages when big: `crate::accel::pages`).
     let top = nodes.len();
+    let mut nodes = {
+        let mut all = vec_on_huge_pages(end);
+        all.extend_from_slice(&nodes);
+        all
+    };
     nodes.par_extend(rayon::iter::repeat_n(Node::EMPTY, end - top));
     let mut stretches = Vec::with_capacity(parts.len());
     let mut free = &mut nodes[top..];
