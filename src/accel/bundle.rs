@@ -69,8 +69,9 @@ pub struct RayBundle<'r> {
     neg: [bool; 3],
     /// The directions agree in sign on every axis: the bundle can walk together.
     pub coherent: bool,
-    /// Per axis, the interval test's bounds; `None` where some reciprocal direction is not
-    /// finite (that axis then constrains nothing).
+    /// Per axis, the interval test's bounds; `None` where some reciprocal direction (or,
+    /// for rays from different points, some origin's bracket) is not finite: that axis then
+    /// constrains nothing.
     interval: [Option<Interval>; 3],
 }
 
@@ -85,10 +86,36 @@ struct Interval {
 }
 // ANCHOR_END: ray_bundle
 
+/// Every lane of a bundle.
+const EVERY: u32 = u32::MAX >> (32 - LANES);
+
+/// Bit i set where lane i is below zero (−0 is not, −∞ is, NaN is not).
+#[inline(always)]
+fn below_zero<W: Wide>(w: W, v: &F32s) -> u32 {
+    let x = w.load(v);
+    // x < 0 is "not 0 ≤ x", but for NaN, which is not even x ≤ x.
+    !w.le(w.splat(0.0), x) & w.le(x, x)
+}
+
+/// The smallest and the largest lane, when every lane is finite (`None` if one is ±∞ or
+/// NaN: an axis the interval test then leaves out).
+#[inline(always)]
+fn finite_range<W: Wide>(w: W, v: &F32s) -> Option<(f32, f32)> {
+    let (x, zero) = (w.load(v), w.splat(0.0));
+    // x − x is 0 for a finite lane and NaN for ±∞ and NaN, which fail every comparison.
+    if w.le(w.sub(x, x), zero) != EVERY {
+        return None;
+    }
+    // The largest is minus the smallest of 0 − x (exact for finite x; a zero may come back
+    // with the other sign, and ±0 compare equal in every test the bounds go into).
+    Some((w.min_of(x, EVERY), -w.min_of(w.sub(zero, x), EVERY)))
+}
+
 impl<'r> RayBundle<'r> {
-    /// Prepares 1 to [`BUNDLE`] rays.
+    /// Prepares 1 to [`BUNDLE`] rays (with `w`'s lanes: a bundle is prepared for every
+    /// sixteen rays it walks, a miss of the whole tree included).
     #[inline(always)]
-    pub fn new(rays: &'r [Ray]) -> RayBundle<'r> {
+    pub fn new<W: Wide>(w: W, rays: &'r [Ray]) -> RayBundle<'r> {
         let n = rays.len();
         assert!(
             (1..=BUNDLE).contains(&n),
@@ -98,12 +125,17 @@ impl<'r> RayBundle<'r> {
         let mut dir = [F64s([0.0; LANES]); 3];
         let origin = rays[0].origin;
         let mut shared_origin = true;
-        for i in 0..LANES {
-            let ray = &rays[i.min(n - 1)];
-            shared_origin &= ray.origin == origin;
+        for (i, ray) in rays.iter().enumerate() {
+            // `&`, not `&&`: no branch per coordinate.
+            let o = ray.origin;
+            shared_origin &= (o.x == origin.x) & (o.y == origin.y) & (o.z == origin.z);
             dir[0].0[i] = ray.dir.x;
             dir[1].0[i] = ray.dir.y;
             dir[2].0[i] = ray.dir.z;
+        }
+        for d in &mut dir {
+            let last = d.0[n - 1];
+            d.0[n..].fill(last);
         }
         // As `RayBox::new`: 1/d in f64, then rounded to f32.
         let mut inv = [F32s([0.0; LANES]); 3];
@@ -113,14 +145,13 @@ impl<'r> RayBundle<'r> {
             }
         }
         // Lanes past the last ray repeat it, so every lane agrees or the bundle is mixed.
-        let every = u32::MAX >> (32 - LANES);
         let (mut coherent, mut neg) = (true, [false; 3]);
         let o = origin.to_array();
         let (mut shared_below, mut shared_above) = ([0.0; 3], [0.0; 3]);
         let (mut below, mut above) = ([F32s::splat(0.0); 3], [F32s::splat(0.0); 3]);
         for k in 0..3 {
-            let negs = inv[k].below_zero();
-            coherent &= negs == 0 || negs == every;
+            let negs = below_zero(w, &inv[k]);
+            coherent &= negs == 0 || negs == EVERY;
             neg[k] = negs != 0;
             (shared_below[k], shared_above[k]) = bracket(o[k]);
             below[k] = F32s::splat(shared_below[k]);
@@ -136,14 +167,16 @@ impl<'r> RayBundle<'r> {
         }
         let mut interval = [None; 3];
         for k in 0..3 {
-            let (inv_lo, inv_hi) = inv[k].range();
-            if !(coherent && inv_lo.is_finite() && inv_hi.is_finite()) {
+            let Some((inv_lo, inv_hi)) = finite_range(w, &inv[k]).filter(|_| coherent) else {
                 continue;
-            }
+            };
             let (below_lo, above_hi) = if shared_origin {
                 (shared_below[k], shared_above[k])
             } else {
-                (below[k].range().0, above[k].range().1)
+                match (finite_range(w, &below[k]), finite_range(w, &above[k])) {
+                    (Some(b), Some(a)) => (b.0, a.1),
+                    _ => continue,
+                }
             };
             // The entry bound wants the origin that makes (plane − o)·(1/d) smallest: the
             // largest o for a positive direction (which enters with o rounded up), the
@@ -633,5 +666,64 @@ impl Iterator for Bits {
         let i = self.0.trailing_zeros() as usize;
         self.0 &= self.0 - 1;
         Some(i)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::accel::isa::{self, Kernel};
+    use crate::math::Rng;
+
+    /// `below_zero` and `finite_range` on one set of lanes.
+    struct Lanes(F32s);
+
+    impl Kernel for Lanes {
+        type Output = (u32, Option<(f32, f32)>);
+        #[inline(always)]
+        fn run<W: Wide>(self, w: W) -> Self::Output {
+            (below_zero(w, &self.0), finite_range(w, &self.0))
+        }
+    }
+
+    /// At every SIMD level the processor has, the lanes' signs and range are what one
+    /// lane at a time says: x < 0 lane by lane, and the smallest and largest lane when
+    /// every lane is finite (none otherwise), on ordinary numbers, zeros of both signs,
+    /// infinities and NaN.
+    #[test]
+    fn signs_and_ranges_of_the_lanes_at_every_level() {
+        let mut rng = Rng::new(&[21, 3]);
+        let special = [0.0, -0.0, f32::INFINITY, f32::NEG_INFINITY, f32::NAN, 1e-40];
+        for round in 0..2000 {
+            // Every other round ordinary numbers only, so the range is exercised too.
+            let odd = round % 2 == 1;
+            let lanes = F32s(std::array::from_fn(|_| {
+                if odd && rng.next_f64() < 0.1 {
+                    special[(rng.next_f64() * 6.0) as usize]
+                } else {
+                    ((rng.next_f64() - 0.5) * 100.0) as f32
+                }
+            }));
+            let negative = (0..LANES).fold(0, |m, i| m | ((lanes.0[i] < 0.0) as u32) << i);
+            let range = lanes.0.iter().all(|x| x.is_finite()).then(|| {
+                let lo = lanes.0.iter().copied().fold(f32::INFINITY, f32::min);
+                let hi = lanes.0.iter().copied().fold(f32::NEG_INFINITY, f32::max);
+                (lo, hi)
+            });
+            for level in isa::levels() {
+                let (signs, found) = isa::run_at(level, Lanes(lanes));
+                assert_eq!(signs, negative, "round {round}, {level:?}: {lanes:?}");
+                // By value: a zero may come back with either sign.
+                let same = match (found, range) {
+                    (Some((l, h)), Some((lo, hi))) => l == lo && h == hi,
+                    (None, None) => true,
+                    _ => false,
+                };
+                assert!(
+                    same,
+                    "round {round}, {level:?}: {found:?}, not {range:?}, of {lanes:?}"
+                );
+            }
+        }
     }
 }

@@ -29,35 +29,6 @@ impl F32s {
     pub fn up(t: &[f64; LANES]) -> F32s {
         F32s(t.map(up))
     }
-
-    /// Bit i set where lane i is below zero (−0 is not; −∞ is).
-    #[inline(always)]
-    pub fn below_zero(&self) -> u32 {
-        let mut m = 0;
-        for i in 0..LANES {
-            m |= ((self.0[i] < 0.0) as u32) << i;
-        }
-        m
-    }
-
-    /// The smallest and the largest lane (NaN lanes are skipped; ±∞ if every lane is NaN).
-    /// Callers fill unused lanes with a copy of a used one.
-    #[inline(always)]
-    pub fn range(&self) -> (f32, f32) {
-        let v = &self.0;
-        let (mut lo, mut hi) = ([0.0f32; 8], [0.0f32; 8]);
-        for i in 0..8 {
-            let (a, b) = (v[i], v[i + 8]);
-            lo[i] = if a < b || b.is_nan() { a } else { b };
-            hi[i] = if a > b || b.is_nan() { a } else { b };
-        }
-        let (mut l, mut h) = (f32::INFINITY, f32::NEG_INFINITY);
-        for i in 0..8 {
-            l = if lo[i] < l { lo[i] } else { l };
-            h = if hi[i] > h { hi[i] } else { h };
-        }
-        (l, h)
-    }
 }
 
 /// Counters of the rays in a bundle: adds one to each lane set in `mask`.

@@ -428,7 +428,7 @@ impl Kernel for ObjectLeaf<'_> {
         if accel.bvh.nodes.is_empty() {
             return;
         }
-        let b = RayBundle::new(rays);
+        let b = RayBundle::new(w, rays);
         let mut work = BundleWork::default();
         accel
             .bvh
@@ -483,7 +483,7 @@ impl Kernel for AnyObjectLeaf<'_> {
         if accel.bvh.nodes.is_empty() {
             return blocked;
         }
-        let b = RayBundle::new(rays);
+        let b = RayBundle::new(w, rays);
         let mut work = BundleWork::default();
         blocked |= accel
             .bvh

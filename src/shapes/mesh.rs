@@ -637,7 +637,7 @@ impl<S: FnMut(usize, usize, u32), F: FnMut(usize, LocalHit)> Kernel for ClosestF
             seen,
             mut found,
         } = self;
-        let b = RayBundle::new(rays);
+        let b = RayBundle::new(w, rays);
         let mut leaf = ClosestLeaf {
             faces: Faces {
                 w,
@@ -673,7 +673,7 @@ impl Kernel for AnyFace<'_, '_> {
     type Output = u32;
     #[inline(always)]
     fn run<W: Wide>(self, w: W) -> u32 {
-        let b = RayBundle::new(self.rays);
+        let b = RayBundle::new(w, self.rays);
         let mut leaf = AnyLeaf {
             faces: Faces {
                 w,
