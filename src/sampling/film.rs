@@ -329,7 +329,11 @@ impl Firsts {
             self.cut.0 += 1;
             self.cut.1 = first(self.cut.1);
         }
-        if r.color.is_finite() {
+        // c − c is zero in every channel exactly when every channel is finite (±∞ and NaN
+        // give NaN): `is_finite` written this way stays three float operations (the
+        // compiler turns `is_finite` into integer tests on each channel's bits).
+        let zero = r.color - r.color;
+        if (zero.x == 0.0) & (zero.y == 0.0) & (zero.z == 0.0) {
             r.color
         } else {
             self.nan = first(self.nan);
