@@ -332,6 +332,7 @@ impl Firsts {
         // c − c is zero in every channel exactly when every channel is finite (±∞ and NaN
         // give NaN): `is_finite` written this way stays three float operations (the
         // compiler turns `is_finite` into integer tests on each channel's bits).
+        #[allow(clippy::eq_op)] // on purpose: c − c is not 0 for ±∞ and NaN
         let zero = r.color - r.color;
         if (zero.x == 0.0) & (zero.y == 0.0) & (zero.z == 0.0) {
             r.color
