@@ -44,8 +44,10 @@ pub fn pass_settings(
                 SamplerKind::Center | SamplerKind::Corners => (SamplerKind::Grid, 1),
                 kind => (kind, base.spp.max(1) as u64),
             };
-            let spp = spp.saturating_mul(grow);
-            let spp = u32::try_from(spp).map_err(|_| too_many(k, spp))?;
+            let spp = spp
+                .checked_mul(grow)
+                .and_then(|n| u32::try_from(n).ok())
+                .ok_or_else(|| too_many(k, spp))?;
             validate_spp(sampler, spp).map_err(|m| format!("pass {k}: {m}"))?;
             s.sampler = sampler;
             s.spp = spp;
@@ -55,8 +57,13 @@ pub fn pass_settings(
     Ok(s)
 }
 
+/// Pass `k` of a render of `spp` samples per pixel (at pass 2) asks for more than any count
+/// the samplers take: said as the power it is, not as the number it overflows.
 fn too_many(k: u32, spp: u64) -> String {
-    format!("pass {k} would take {spp} samples per pixel, more than the limit of 65536")
+    format!(
+        "pass {k} would take {spp} × 4^{} samples per pixel, more than the limit of 65536",
+        k - 2
+    )
 }
 
 /// What one pass of [`progressive`] made.
@@ -159,6 +166,12 @@ mod tests {
         assert!(pass_settings(&r, 2, 2, 11).is_err());
         assert!(pass_settings(&r, 2, 2, 0).is_err());
         assert!(pass_settings(&r, 2, 2, 200).is_err());
+        // Past what any integer holds, the count is said as the power it is.
+        let far = pass_settings(&base(SamplerKind::Jittered, 3), 2, 2, 99).unwrap_err();
+        assert_eq!(
+            far,
+            "pass 99 would take 3 × 4^97 samples per pixel, more than the limit of 65536"
+        );
         // Memory: a big image ends the sequence earlier.
         assert!(pass_settings(&r, 1280, 720, 7).is_err());
     }
