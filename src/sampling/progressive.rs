@@ -61,8 +61,9 @@ pub fn pass_settings(
 /// the samplers take: said as the power it is, not as the number it overflows.
 fn too_many(k: u32, spp: u64) -> String {
     format!(
-        "pass {k} would take {spp} × 4^{} samples per pixel, more than the limit of 65536",
-        k - 2
+        "pass {k} would take {spp} × 4^{} samples per pixel, more than the limit of {}",
+        k - 2,
+        super::sampler::MAX_SPP
     )
 }
 

@@ -6,15 +6,19 @@ use crate::math::Rng;
 use crate::scene::{RenderSettings, SamplerKind};
 use glam::{DVec2, DVec3};
 
+/// The most samples per pixel any sampler takes (4⁸ = 256², a square and a power of four,
+/// so every sampler reaches it).
+pub const MAX_SPP: u32 = 65536;
+
 /// Checks that `spp` suits the sampler (grids need a square number, the adaptive sampler a
 /// power of four: its finest level is a 2ᵏ×2ᵏ grid).
 pub fn validate_spp(kind: SamplerKind, spp: u32) -> Result<(), String> {
     if spp == 0 {
         return Err("samples per pixel must be at least 1".into());
     }
-    if spp > 65536 {
+    if spp > MAX_SPP {
         return Err(format!(
-            "{spp} samples per pixel is more than the limit of 65536"
+            "{spp} samples per pixel is more than the limit of {MAX_SPP}"
         ));
     }
     if matches!(kind, SamplerKind::Grid | SamplerKind::Jittered) {
