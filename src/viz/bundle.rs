@@ -1,6 +1,7 @@
 //! The bundle figure: one 4×4 bundle of camera rays over a mesh's BVH, seen from above
-//! (the mesh's own x–z plane, y dropped): the boxes the bundle opened, the ones it culled
-//! because every one of its rays missed them, and the rays up to their hits.
+//! (the mesh's own x–z plane, y dropped), one panel per level of the tree: the boxes the
+//! bundle tested there, those some ray entered and those it culled because every one of its
+//! rays missed them, and the rays up to their hits.
 
 use super::canvas::{Anchor, Canvas};
 use super::style;
@@ -8,14 +9,15 @@ use crate::accel::{BundleWork, BUNDLE};
 use crate::math::Ray;
 use crate::sampling::bundles::SIDE;
 use crate::scene::Scene;
-use crate::shapes::{Aabb, Shape};
+use crate::shapes::{Aabb, LocalHit, Shape};
 use crate::trace::camera_ray;
 use glam::{DVec2, DVec3};
 
 /// Figure size in pixels.
-const W: f32 = 760.0;
-const H: f32 = 620.0;
-/// Levels of the tree drawn below the root (deeper boxes are too small to read).
+const W: f32 = 960.0;
+const H: f32 = 480.0;
+/// Levels of the tree drawn below the root, one panel each (deeper boxes are too small to
+/// read).
 const LEVELS: usize = 2;
 
 /// Draws the bundle of pixel (x, y): the 4×4 block of pixels holding it, one camera ray
@@ -69,97 +71,50 @@ pub fn draw(scene: &Scene, x: u32, y: u32) -> Result<Canvas, String> {
         }
     }
 
-    // The view: the mesh's box, with a margin, in object x (right) and z (down).
     let b = mesh.bounds;
-    let (lo, hi) = (DVec2::new(b.min.x, b.min.z), DVec2::new(b.max.x, b.max.z));
-    let (top, side, bottom) = (96.0f32, 30.0f32, 70.0f32);
-    let span = (hi - lo).max_element() * 1.15;
-    let scale = ((W - 2.0 * side) as f64 / span).min((H - top - bottom) as f64 / span);
-    let centre = (lo + hi) * 0.5;
-    let mid = ((W / 2.0) as f64, ((top + H - bottom) / 2.0) as f64);
-    let map = |p: DVec3| -> (f32, f32) {
-        (
-            (mid.0 + (p.x - centre.x) * scale) as f32,
-            (mid.1 + (p.z - centre.y) * scale) as f32,
-        )
+    let counts = |level: usize, entered: bool| {
+        tested
+            .iter()
+            .filter(|&&(node, _, mask)| depth[node] == level && (mask != 0) == entered)
+            .count()
     };
+
     let mut c = Canvas::new(W as u32, H as u32, style::background());
-    let culled_color = style::tossed();
-    let opened_color = style::shape_stroke();
-    let draw_box = |c: &mut Canvas, bx: &Aabb, opened: bool, d: usize| {
-        let a = map(bx.min);
-        let z = map(bx.max);
-        let (min, size) = (
-            (a.0.min(z.0), a.1.min(z.1)),
-            ((z.0 - a.0).abs(), (z.1 - a.1).abs()),
-        );
-        if opened {
-            let fill = style::rgba(90, 140, 200, 22 + 10 * d as u8);
-            c.rect(min, size, Some((opened_color, 1.6)), Some(fill));
-        } else {
-            let (x1, y1) = (min.0 + size.0, min.1 + size.1);
-            for (p, q) in [
-                ((min.0, min.1), (x1, min.1)),
-                ((x1, min.1), (x1, y1)),
-                ((x1, y1), (min.0, y1)),
-                ((min.0, y1), (min.0, min.1)),
-            ] {
-                c.line(p, q, culled_color, 1.3, true);
+    // One panel per level: the boxes the bundle tested there, the root's outline around
+    // them, and the rays.
+    let panel_w = (W - 2.0 * SIDE_MARGIN - GAP) / 2.0;
+    for level in 0..LEVELS {
+        let x0 = SIDE_MARGIN + level as f32 * (panel_w + GAP);
+        let view = Panel::fit(&b, (x0, TOP + 26.0), (panel_w, H - TOP - 26.0 - BOTTOM));
+        let (entered, culled) = (counts(level, true), counts(level, false));
+        let heading = match level {
+            0 => format!("1. The root's four children: {entered} entered, {culled} culled"),
+            _ => format!(
+                "{}. One level down, in the boxes entered: {entered} entered, {culled} culled",
+                level + 1
+            ),
+        };
+        c.text((x0, TOP + 8.0), &heading, 13.0, style::ink(), Anchor::Left);
+        view.outline(&mut c, &b, style::muted(), 1.2, false);
+        let (bx, by) = view.map(DVec3::new(b.min.x, 0.0, b.min.z));
+        c.text((bx + 4.0, by + 12.0), "root", 11.0, style::muted(), Anchor::Left);
+        // Culled boxes first, under the entered ones.
+        for want in [false, true] {
+            for &(node, lane, mask) in tested.iter().filter(|t| depth[t.0] == level) {
+                if (mask != 0) == want {
+                    view.level_box(&mut c, &nodes[node].bounds(lane), want);
+                }
             }
         }
-    };
-    // The root, then the tested children down to LEVELS: culled ones first, under the opened.
-    draw_box(&mut c, &b, true, 0);
-    let shown = |&&(node, _, _): &&(usize, usize, u32)| depth[node] < LEVELS;
-    let (mut opened, mut culled) = (0, 0);
-    for &(node, lane, mask) in tested.iter().filter(shown) {
-        if mask == 0 {
-            draw_box(&mut c, &nodes[node].bounds(lane), false, depth[node] + 1);
-            culled += 1;
-        }
+        view.rays(&mut c, &rays, &hits, b.centroid());
     }
-    for &(node, lane, mask) in tested.iter().filter(shown) {
-        if mask != 0 {
-            draw_box(&mut c, &nodes[node].bounds(lane), true, depth[node] + 1);
-            opened += 1;
-        }
-    }
-    // The rays: from where they enter the view to their hit (or across the view).
-    let ray_color = style::ray(crate::trace::RayKind::Camera);
-    let far = span * 3.0;
-    for (i, r) in rays.iter().enumerate() {
-        let t_end = hits[i].map_or(far + r.origin.distance(b.centroid()), |h| h.t);
-        // Enter the drawn square (the view's x–z extent) by a 2D slab test.
-        let half = span / 2.0 * 1.05;
-        let (mut t_start, mut t_stop) = (0.0f64, f64::INFINITY);
-        for (o, d, c) in [
-            (r.origin.x, r.dir.x, centre.x),
-            (r.origin.z, r.dir.z, centre.y),
-        ] {
-            let (a, z) = ((c - half - o) / d, (c + half - o) / d);
-            t_start = t_start.max(a.min(z));
-            t_stop = t_stop.min(a.max(z));
-        }
-        let t_end = t_end.min(t_stop);
-        if t_start >= t_end {
-            continue;
-        }
-        c.line(map(r.at(t_start)), map(r.at(t_end)), ray_color, 1.0, false);
-        if let Some(hit) = hits[i].filter(|h| h.t <= t_stop) {
-            c.circle(
-                map(r.at(hit.t)),
-                3.0,
-                Some((ray_color, 1.0)),
-                Some(ray_color),
-            );
-        }
-    }
-    // Title and legend.
+
+    // Title, legend and footers.
     let hit_count = hits.iter().flatten().count();
     c.text(
-        (side, 22.0),
+        (SIDE_MARGIN, 22.0),
         &format!(
-            "A bundle of {n} camera rays (pixels {x0}..{}, {y0}..{}) over the mesh's BVH, seen from above",
+            "A bundle of {n} camera rays (pixels x {x0}–{}, y {y0}–{}) walking the mesh's BVH, seen from above",
             x0 + SIDE - 1,
             y0 + SIDE - 1
         ),
@@ -168,54 +123,149 @@ pub fn draw(scene: &Scene, x: u32, y: u32) -> Result<Canvas, String> {
         Anchor::Left,
     );
     c.text(
-        (side, 44.0),
+        (SIDE_MARGIN, 44.0),
         &format!(
-            "object-space x (right) and z (down); the root box and {LEVELS} levels below it; {hit_count} of {n} rays hit"
+            "object-space x (right) and z (down); the rays come from the camera (bottom); {hit_count} of {n} rays hit (dots)"
         ),
         12.0,
-        style::muted(),
+        style::ink(),
         Anchor::Left,
     );
-    let (lx, ly) = (side, 70.0);
+    let (lx, ly) = (SIDE_MARGIN, 70.0);
     c.rect(
         (lx, ly - 6.0),
         (22.0, 12.0),
-        Some((opened_color, 1.6)),
-        Some(style::rgba(90, 140, 200, 40)),
+        Some((style::shape_stroke(), 1.8)),
+        Some(entered_fill()),
     );
     c.text(
         (lx + 30.0, ly),
-        &format!("opened: some ray of the bundle enters it ({opened})"),
+        "entered: at least one of the rays enters it (the bundle goes on into it)",
         12.0,
         style::ink(),
         Anchor::Left,
     );
-    let lx2 = lx + 330.0;
-    c.line((lx2, ly), (lx2 + 22.0, ly), culled_color, 1.3, true);
+    c.line((lx, ly + 20.0), (lx + 22.0, ly + 20.0), culled_color(), 1.6, true);
     c.text(
-        (lx2 + 30.0, ly),
-        &format!("culled: every ray misses it ({culled})"),
+        (lx + 30.0, ly + 20.0),
+        "culled: all the rays miss it (one test skips its whole subtree)",
         12.0,
         style::ink(),
         Anchor::Left,
     );
     c.text(
-        (W - side, H - 14.0),
+        (SIDE_MARGIN, H - 34.0),
+        "Seen from above, a ray can seem to cross a culled box it passes over or under (y is not drawn); rays in one pixel column overlap.",
+        11.0,
+        style::ink(),
+        Anchor::Left,
+    );
+    c.text(
+        (SIDE_MARGIN, H - 14.0),
         &format!(
-            "whole walk: {} nodes opened for the bundle, {} slab tests of single rays",
+            "The whole walk, every level: the bundle opened {} nodes, each once for all its rays; its rays' own slab tests (one ray against one node's four boxes): {}.",
             work.opened,
             work.ray_nodes.iter().sum::<u32>()
         ),
-        12.0,
-        style::muted(),
-        Anchor::Right,
-    );
-    c.text(
-        (side, H - 14.0),
-        "the rays come from the camera (bottom)",
-        12.0,
-        style::muted(),
+        11.0,
+        style::ink(),
         Anchor::Left,
     );
     Ok(c)
+}
+
+/// Figure layout: margins, the gap between the panels, the heights above and below them.
+const SIDE_MARGIN: f32 = 24.0;
+const GAP: f32 = 28.0;
+const TOP: f32 = 106.0;
+const BOTTOM: f32 = 52.0;
+
+fn entered_fill() -> tiny_skia::Color {
+    style::rgba(90, 140, 200, 60)
+}
+
+/// The dashes of a culled box: darker than the figures' usual tossed grey, to read on blue.
+fn culled_color() -> tiny_skia::Color {
+    style::rgb(110, 110, 120)
+}
+
+/// One panel: the mesh's box (x right, z down) fitted into a rectangle of the figure.
+struct Panel {
+    at: (f32, f32),
+    size: (f32, f32),
+    centre: DVec2,
+    /// Half the drawn extent in x and z, in object units.
+    half: DVec2,
+    scale: f64,
+}
+
+impl Panel {
+    fn fit(b: &Aabb, at: (f32, f32), size: (f32, f32)) -> Panel {
+        let extent = DVec2::new(b.max.x - b.min.x, b.max.z - b.min.z).max(DVec2::splat(1e-9)) * 1.08;
+        let scale = (size.0 as f64 / extent.x).min(size.1 as f64 / extent.y);
+        Panel {
+            at,
+            size,
+            centre: DVec2::new(b.min.x + b.max.x, b.min.z + b.max.z) * 0.5,
+            half: DVec2::new(size.0 as f64, size.1 as f64) / scale * 0.5,
+            scale,
+        }
+    }
+
+    fn map(&self, p: DVec3) -> (f32, f32) {
+        (
+            (self.at.0 as f64 + self.size.0 as f64 * 0.5 + (p.x - self.centre.x) * self.scale) as f32,
+            (self.at.1 as f64 + self.size.1 as f64 * 0.5 + (p.z - self.centre.y) * self.scale) as f32,
+        )
+    }
+
+    fn outline(&self, c: &mut Canvas, bx: &Aabb, color: tiny_skia::Color, width: f32, dashed: bool) {
+        let (a, z) = (self.map(bx.min), self.map(bx.max));
+        let (x0, y0, x1, y1) = (a.0.min(z.0), a.1.min(z.1), a.0.max(z.0), a.1.max(z.1));
+        for (p, q) in [
+            ((x0, y0), (x1, y0)),
+            ((x1, y0), (x1, y1)),
+            ((x1, y1), (x0, y1)),
+            ((x0, y1), (x0, y0)),
+        ] {
+            c.line(p, q, color, width, dashed);
+        }
+    }
+
+    /// A tested box: filled and outlined if some ray entered it, dashed if all missed it.
+    fn level_box(&self, c: &mut Canvas, bx: &Aabb, entered: bool) {
+        if entered {
+            let (a, z) = (self.map(bx.min), self.map(bx.max));
+            let min = (a.0.min(z.0), a.1.min(z.1));
+            let size = ((z.0 - a.0).abs(), (z.1 - a.1).abs());
+            c.rect(min, size, Some((style::shape_stroke(), 1.8)), Some(entered_fill()));
+        } else {
+            self.outline(c, bx, culled_color(), 1.6, true);
+        }
+    }
+
+    /// The rays, from where they enter the panel to their hit (a dot) or across it.
+    fn rays(&self, c: &mut Canvas, rays: &[Ray], hits: &[Option<LocalHit>], towards: DVec3) {
+        let color = style::ray(crate::trace::RayKind::Camera);
+        for (r, hit) in rays.iter().zip(hits) {
+            let far = r.origin.distance(towards) + 4.0 * self.half.max_element();
+            let (mut t_start, mut t_stop) = (0.0f64, f64::INFINITY);
+            for (o, d, c, h) in [
+                (r.origin.x, r.dir.x, self.centre.x, self.half.x),
+                (r.origin.z, r.dir.z, self.centre.y, self.half.y),
+            ] {
+                let (a, z) = ((c - h - o) / d, (c + h - o) / d);
+                t_start = t_start.max(a.min(z));
+                t_stop = t_stop.min(a.max(z));
+            }
+            let t_end = hit.map_or(far, |h| h.t).min(t_stop);
+            if t_start >= t_end {
+                continue;
+            }
+            c.line(self.map(r.at(t_start)), self.map(r.at(t_end)), color, 1.0, false);
+            if let Some(h) = hit.filter(|h| h.t <= t_stop) {
+                c.circle(self.map(r.at(h.t)), 3.0, Some((color, 1.0)), Some(color));
+            }
+        }
+    }
 }
