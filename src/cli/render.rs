@@ -31,16 +31,19 @@ pub struct Args {
     #[arg(long, short)]
     pub quiet: bool,
     /// Write an arbitrary output variable instead of the colour: depth, normal, albedo,
-    /// object-id, ambient, diffuse, specular, reflection, transmission, shadow, ray-depth, cost.
+    /// object-id, ambient, diffuse, specular, reflection, transmission, shadow, ray-depth, cost,
+    /// spp.
     #[arg(long, value_name = "NAME")]
     pub aov: Option<String>,
     /// Progressive rendering: write pass K of the sequence (1: subsampled preview, 2: the
     /// scene's settings, k > 2: 4^(k-2) times its samples per pixel). Only pass K is traced.
-    #[arg(long, value_name = "K")]
+    /// With --time-budget: stop after pass K at the latest.
+    #[arg(long, value_name = "K", allow_negative_numbers = true)]
     pub passes: Option<u32>,
     /// Progressive rendering for about this long: passes 1, 2, 3, ... until the time is
-    /// spent; writes the last complete pass (the same bytes as --passes K, K printed).
-    #[arg(long, value_name = "SECONDS")]
+    /// spent (a pass is cut off within a pixel's time); writes the last complete pass (the
+    /// same bytes as --passes K, K printed).
+    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
     pub time_budget: Option<f64>,
 }
 
@@ -59,13 +62,22 @@ fn budgeted(
     count: bool,
     quiet: bool,
 ) -> Option<Pass> {
-    let deadline = Instant::now() + std::time::Duration::from_secs_f64(budget.min(1e9));
+    // The pass is asked whether to stop before each pixel: a flag that a timer sets is
+    // cheaper to ask than the clock. (The timer thread outlives a render that ends first;
+    // it only sleeps.)
+    let expired = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let timer = expired.clone();
+    let budget = std::time::Duration::from_secs_f64(budget.min(1e9));
+    std::thread::spawn(move || {
+        std::thread::sleep(budget);
+        timer.store(true, std::sync::atomic::Ordering::Relaxed);
+    });
     progressive(
         scene,
         &scene.render,
         count,
         max,
-        &|k| k > 1 && Instant::now() >= deadline,
+        &|k| k > 1 && expired.load(std::sync::atomic::Ordering::Relaxed),
         |p| {
             if !quiet {
                 eprintln!(
@@ -79,11 +91,19 @@ fn budgeted(
     )
 }
 
+/// The most threads `--threads` may ask for: far more than any processor has cores, and few
+/// enough to start at once (thousands take seconds to start, a hundred thousand minutes).
+const MAX_THREADS: usize = 1024;
+
 /// Runs `f` on a thread pool of `threads` workers (or rayon's default).
 pub fn with_threads<T: Send>(threads: Option<usize>, f: impl FnOnce() -> T + Send) -> Result<T> {
     match threads {
         None => Ok(f()),
         Some(0) => Err(Error::arg("--threads", "must be at least 1")),
+        Some(n) if n > MAX_THREADS => Err(Error::arg(
+            "--threads",
+            format!("{n} is more than {MAX_THREADS}, the most a render may start"),
+        )),
         Some(n) => {
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(n)
@@ -235,6 +255,13 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
         })?;
         crate::interrupt::check()?;
         let pass = pass.ok_or_else(|| Error::Other("no pass was completed".into()))?;
+        // The sequence itself ended (a budget longer than all of it): say why.
+        if args.passes.is_none_or(|cap| pass.index < cap) {
+            let (w, h) = (scene.camera.width, scene.camera.height);
+            if let Err(why) = pass_settings(&scene.render, w, h, pass.index + 1) {
+                eprintln!("the passes end at pass {} ({why})", pass.index);
+            }
+        }
         eprintln!(
             "passes: {k} ({}); the same image: --passes {k}",
             describe(&pass.settings),
@@ -322,6 +349,13 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
                     simd_lanes(),
                     per_bundle
                 )
+            } else if scene.render.traversal == Traversal::Bundle && r.camera > 0 {
+                let why = if scene.render.mistakes.changes_hits() {
+                    "a mistake that changes which object a ray hits is on"
+                } else {
+                    "the adaptive sampler decides its samples while it traces"
+                };
+                format!("no bundles: {why}, so every camera ray went alone\n")
             } else {
                 String::new()
             };

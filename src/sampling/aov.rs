@@ -6,10 +6,9 @@
 //!
 //! Adding an AOV: one variant, one row in [`Aov::ALL`], one arm in [`Aov::display`].
 
-use super::bundles::{trace_bundled, BundleTally, TilePlan};
+use super::bundles::{bundled, trace_bundled, BundleTally, TilePlan};
 use super::tiles::{tiles, Tile};
 use super::{pixel_samples, render_reconstruct, Filter};
-use crate::accel::Traversal;
 use crate::math::Ray;
 use crate::scene::{Encoding, RenderSettings, Scene};
 use crate::shading::{LightTerm, Shading};
@@ -339,11 +338,11 @@ pub struct AovSamples {
 
 /// Traces every camera sample of the image with an [`AovRecorder`], tile by tile as `render`
 /// does (tiles in parallel, gathered in order: the result does not depend on the thread
-/// count). With bundles, a tile goes block by block through the film's own
-/// [`trace_bundled`], so each sample's cost is the share `--stats` counts for it.
+/// count). Where the render bundles ([`bundled`]), a tile goes block by block through the
+/// film's own [`trace_bundled`], so each sample's cost is the share `--stats` counts for it.
 pub fn trace_aov_samples(scene: &Scene, settings: &RenderSettings) -> AovSamples {
     let (w, h) = (scene.camera.width, scene.camera.height);
-    let bundled = settings.traversal == Traversal::Bundle && !settings.mistakes.changes_hits();
+    let bundled = bundled(settings);
     let traced: Vec<(Tile, Vec<SamplesOf>)> = tiles(w, h)
         .into_par_iter()
         .map(|tile| {
@@ -357,7 +356,7 @@ pub fn trace_aov_samples(scene: &Scene, settings: &RenderSettings) -> AovSamples
                 let trace = |l: usize, _, _, camera: &mut CameraRay, found: Found| {
                     out[l].push(aov_sample(scene, settings, &mut rec, camera, Some(found)));
                 };
-                trace_bundled(scene, settings, &tile, &plan, &mut tally, trace, |_| {});
+                trace_bundled(scene, settings, &tile, &plan, &mut tally, trace, |_| true);
             } else {
                 for (l, (x, y)) in tile.pixels().enumerate() {
                     for k in 0..plan.samples_of(l) {

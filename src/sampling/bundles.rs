@@ -30,6 +30,15 @@ impl BundleTally {
     }
 }
 
+/// Do a render's camera rays go in bundles? When asked to (`--traversal bundle`), unless a
+/// mistake changes which object a ray hits (every ray then takes the mistaken single-ray
+/// path) or the adaptive sampler decides its samples while it traces (they go alone).
+pub fn bundled(settings: &RenderSettings) -> bool {
+    settings.traversal == crate::accel::Traversal::Bundle
+        && !settings.mistakes.changes_hits()
+        && settings.sampler != crate::scene::SamplerKind::Adaptive
+}
+
 /// Where a tile's samples go, pixel by pixel in the tile's row-major order, by sample index.
 pub enum TilePlan {
     /// One sample at each pixel's centre (the common case): nothing to list, sample l of
@@ -102,8 +111,9 @@ impl TilePlan {
 /// their closest hits together ([`crate::accel::Accel::closest_bundle_into`]), and handed
 /// one by one, hit found, to
 /// `trace(l, (x, y), k, camera)` (the tile's pixel `l`, at (x, y), its sample `k`), which
-/// shades them with the one tracer. `block_done(pixels)` follows each block; a cancelled
-/// render (`settings.cancel`) stops before the next block.
+/// shades them with the one tracer. `block_done(pixels)` follows each block and says whether
+/// to go on (`false` stops the tile there); a cancelled render (`settings.cancel`) also stops
+/// before the next block.
 #[inline(never)] // once per tile; and a profiler sees it whole
 pub fn trace_bundled(
     scene: &Scene,
@@ -112,7 +122,7 @@ pub fn trace_bundled(
     plan: &TilePlan,
     tally: &mut BundleTally,
     mut trace: impl FnMut(usize, (u32, u32), u32, &mut CameraRay, Found),
-    mut block_done: impl FnMut(u64),
+    mut block_done: impl FnMut(u64) -> bool,
 ) {
     let tile_w = tile.x.len() as u32;
     // The block's camera rays, made side by side into `cams[..n]`; the placeholders past
@@ -155,7 +165,9 @@ pub fn trace_bundled(
                     trace(l, xy, k, cam, hits.found(j));
                 }
             }
-            block_done(block.len() as u64);
+            if !block_done(block.len() as u64) {
+                return;
+            }
         }
     }
 }

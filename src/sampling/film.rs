@@ -1,14 +1,13 @@
 //! The render: tiles traced in parallel, sample by sample through the one tracer, then
 //! reconstructed into the image; and what the render holds in memory.
 
-use super::bundles::{trace_bundled, BundleTally, TilePlan};
+use super::bundles::{bundled, trace_bundled, BundleTally, TilePlan};
 use super::image::Image;
 use super::kept::TileSamples;
 use super::reconstruct::{reconstruct_color, Kernel};
 use super::sampler::{only_centres, sample_pixel_into};
 use super::tiles::{row_major_order, tiles};
 use super::{Filter, PixelSample};
-use crate::accel::Traversal;
 use crate::scene::{RenderSettings, Scene};
 use crate::trace::{
     camera_ray, trace_camera, Counter, NoRecorder, RayCounts, Recorder, SampleResult,
@@ -66,8 +65,10 @@ pub fn render(
         .expect("a render nothing stops runs to the end")
 }
 
-/// [`render`], but `stop()` is asked before each tile: once it says yes, the remaining tiles
-/// are skipped and there is no image (`None`). Progressive rendering
+/// [`render`], but `stop()` is asked before each tile and, inside a tile, before each pixel
+/// (each 4×4 block, with bundles): once it says yes, the rest is skipped and there is no
+/// image (`None`). (So a pass of many samples per pixel on a small image, a tile or two,
+/// still stops soon after it is asked to; `stop` should be cheap.) Progressive rendering
 /// ([`super::progressive`]) stops a pass this way when its time is up or its caller cancels.
 /// Ctrl-C ([`crate::interrupt`]) skips the tiles as well, but still returns an (empty) output.
 pub fn render_until(
@@ -84,8 +85,8 @@ pub fn render_until(
     }
 }
 
-/// [`render`] that gives up (`None`) once `cancel` is set, checked before each tile: the
-/// server cancels a render that a newer one superseded.
+/// [`render`] that gives up (`None`) once `cancel` is set, checked before each tile and
+/// pixel: the server cancels a render that a newer one superseded.
 pub fn render_cancellable(
     scene: &Scene,
     settings: &RenderSettings,
@@ -131,15 +132,21 @@ fn render_with<R: Tally>(
         (u64, Option<(u32, u32, u32)>),
         BundleTally,
     );
-    // Under a mistake that changes hits, every ray takes the mistaken single-ray path.
-    let bundled = settings.traversal == Traversal::Bundle && !settings.mistakes.changes_hits();
+    let bundled = bundled(settings);
     let centres = only_centres(settings);
     let tiles = tiles(w, h);
     let traced: Vec<Traced> = tiles
         .par_iter()
         .map(|tile| {
-            if stopped.load(std::sync::atomic::Ordering::Relaxed) || stop() {
-                stopped.store(true, std::sync::atomic::Ordering::Relaxed);
+            // Asked before the tile, and before each pixel or block inside it.
+            let halt = || {
+                let halt = stopped.load(std::sync::atomic::Ordering::Relaxed) || stop();
+                if halt {
+                    stopped.store(true, std::sync::atomic::Ordering::Relaxed);
+                }
+                halt
+            };
+            if halt() {
                 return Default::default();
             }
             let mut tally = BundleTally::default();
@@ -182,6 +189,7 @@ fn render_with<R: Tally>(
                         if let Some(p) = progress {
                             p.inc(pixels);
                         }
+                        !halt()
                     },
                 );
                 if !settings.cancel.is_cancelled() {
@@ -193,8 +201,8 @@ fn render_with<R: Tally>(
                 let mut kept = TileSamples::with_capacity(centres, tile.len(), most);
                 let mut scratch = Vec::new();
                 for (x, y) in tile.pixels() {
-                    if settings.cancel.is_cancelled() {
-                        // Ctrl-C or a cancelled token: skip the rest; the caller writes nothing.
+                    if settings.cancel.is_cancelled() || halt() {
+                        // Ctrl-C or a cancelled token (the caller writes nothing), or stopped.
                         break;
                     }
                     let mut rec = R::default();

@@ -80,8 +80,9 @@ pub struct Pass {
 
 /// Renders passes 1, 2, … ([`pass_settings`]) until `max_passes` are done, the sequence ends
 /// (the next pass would exceed the sample or memory limits) or `stop(k)` says to stop while
-/// pass k is running or before it starts. `stop` is asked before every tile, so a stopped
-/// pass ends within a tile's time; its partial image is thrown away. `each` sees every
+/// pass k is running or before it starts. `stop` is asked before every tile and every pixel
+/// (block of pixels, with bundles) of a pass, so a stopped pass ends within a pixel's time;
+/// its partial image is thrown away. It should be cheap (a flag, not a clock). `each` sees every
 /// completed pass as it is done (a progressive preview shows them). Returns the last
 /// completed pass: `None` only if the first one was stopped (or Ctrl-C was pressed).
 ///

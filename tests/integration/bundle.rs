@@ -80,6 +80,17 @@ fn aovs_agree_and_cost_counts_the_bundles_work() {
         let distinct: std::collections::BTreeSet<_> = cost.pixels().map(|p| p.0).collect();
         assert!(distinct.len() > 5);
     }
+    // The adaptive sampler's rays go alone in the render, whatever the traversal: so do the
+    // cost AOV's, and its image is the same both ways.
+    s.sampler = SamplerKind::Adaptive;
+    s.spp = 16;
+    let costs: Vec<_> = [Traversal::Single, Traversal::Bundle]
+        .map(|t| {
+            s.traversal = t;
+            render_aov(&scene, &s, Aov::Cost).image
+        })
+        .into();
+    assert!(costs[0] == costs[1], "adaptive cost");
 }
 
 #[test]
@@ -297,6 +308,32 @@ fn stats_name_the_simd_level_the_bundles_ran_on() {
             assert_eq!(simd, "portable");
         }
     }
+}
+
+/// Where bundles were asked for but none could be traced, `--stats` says so and why, rather
+/// than printing "bundle traversal" over rays that all went alone.
+#[test]
+fn stats_say_why_no_bundles_were_traced() {
+    for (extra, why) in [
+        (vec!["--sampler", "adaptive"], "the adaptive sampler"),
+        (vec!["--mistake", "object-space-t"], "a mistake that changes"),
+    ] {
+        let out = tmp("stats-no-bundles.png");
+        let mut args = vec!["render", "scenes/teapot.json", "-o", out.to_str().unwrap()];
+        args.extend(["--width", "32", "--height", "24", "--stats"]);
+        args.extend(extra);
+        let o = rtlab(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let err = stderr(&o);
+        assert!(
+            err.contains(&format!("no bundles: {why}")) && !err.contains("bundles of up to"),
+            "{err}"
+        );
+    }
+    // With bundles traced, no such line.
+    let out = tmp("stats-with-bundles.png");
+    let o = rtlab(&["render", "scenes/teapot.json", "-o", out.to_str().unwrap(), "--stats"]);
+    assert!(!stderr(&o).contains("no bundles"), "{}", stderr(&o));
 }
 
 /// Bundles find each ray's own closest face, bit for bit, where the order of the tests could

@@ -59,11 +59,39 @@ fn budgeted_render_equals_passes_k_on_any_thread_count() {
         "{}",
         stderr(&o)
     );
+    assert!(!stderr(&o).contains("the passes end"), "{}", stderr(&o));
     let plain = tmp("plain.png");
     let o = rtlab(&render_args(s, plain.to_str().unwrap(), &["--quiet"]));
     assert!(o.status.success());
     // Pass 2 is the scene's own settings: the plain render.
     assert!(std::fs::read(&capped).unwrap() == std::fs::read(&plain).unwrap());
+}
+
+/// A budget longer than the whole sequence (on a 2×2 image) stops at its last pass, and
+/// says why rather than stopping silently early.
+#[test]
+fn a_budget_past_the_last_pass_says_where_the_passes_end() {
+    let scene = path("scenes/spheres.json");
+    let out = tmp("all-passes.png");
+    let o = rtlab(&[
+        "render",
+        scene.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--width",
+        "2",
+        "--height",
+        "2",
+        "--time-budget",
+        "600",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(
+        err.contains("the passes end at pass 10 (pass 11: 262144 samples per pixel is more than the limit of 65536)"),
+        "{err}"
+    );
+    assert!(err.contains("the same image: --passes 10"), "{err}");
 }
 
 #[test]
