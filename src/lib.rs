@@ -27,6 +27,7 @@ pub mod camera;
 pub mod cli;
 pub mod diff;
 pub mod error;
+pub mod input;
 pub mod interrupt;
 pub mod lessons;
 pub mod math;

@@ -218,6 +218,14 @@ impl RenderArgs {
         self.check()?;
         let mut loaded = crate::scene::open(path, self.stage())?;
         self.apply(&mut loaded.scene)?;
+        if self.adaptive_threshold.is_some()
+            && loaded.scene.render.sampler != crate::scene::SamplerKind::Adaptive
+        {
+            loaded.warnings.push(format!(
+                "--adaptive-threshold has no effect: the sampler is {}, not adaptive",
+                loaded.scene.render.sampler.name()
+            ));
+        }
         if loaded.stage == Some(CourseStage::Intersect) {
             loaded
                 .warnings
@@ -339,6 +347,12 @@ impl RenderArgs {
     pub fn mistake_set(&self) -> Result<crate::mistakes::Mistakes> {
         let mut set = crate::mistakes::Mistakes::NONE;
         for list in &self.mistakes {
+            if list.split(',').all(|name| name.trim().is_empty()) {
+                return Err(Error::arg(
+                    "--mistake",
+                    "no name given (rtlab mistakes lists the names)",
+                ));
+            }
             let more = crate::mistakes::Mistake::parse_list(list)
                 .map_err(|m| Error::arg("--mistake", m))?;
             set = set.iter().chain(more.iter()).collect();

@@ -14,7 +14,7 @@ pub fn read_rgb8(path: &Path) -> Result<RgbImage> {
     if path.is_dir() {
         return Err(Error::io(path, format!("is a directory; {EXPECTED}")));
     }
-    let bytes = std::fs::read(path).map_err(|e| {
+    let bytes = crate::input::read_limited(path, crate::input::IMAGE_LIMIT).map_err(|e| {
         let why = match e.kind() {
             std::io::ErrorKind::NotFound => "no such file".to_string(),
             std::io::ErrorKind::PermissionDenied => "permission denied".to_string(),

@@ -126,8 +126,14 @@ impl<'a> Node<'a> {
     }
     pub fn u32(&self) -> Result<u32> {
         let x = self.f64()?;
-        if x < 0.0 || x.fract() != 0.0 || x > u32::MAX as f64 {
+        if x < 0.0 || x.fract() != 0.0 {
             return Err(self.err(format!("expected a whole number ≥ 0, found {x}")));
+        }
+        if x > u32::MAX as f64 {
+            return Err(self.err(format!(
+                "{x} is too large: at most {} here",
+                u32::MAX
+            )));
         }
         Ok(x as u32)
     }

@@ -237,7 +237,7 @@ impl Scene {
                 "is a directory, expected a scene file (.json)",
             ));
         }
-        let bytes = std::fs::read(path)
+        let bytes = crate::input::read_limited(path, crate::input::TEXT_LIMIT)
             .map_err(|e| Error::io(path, format!("cannot read scene: {}", io_reason(&e))))?;
         let text = String::from_utf8(bytes).map_err(|_| {
             Error::input(
@@ -335,7 +335,7 @@ pub fn load_texture(path: &Path) -> Result<crate::shading::TextureSource> {
     if path.is_dir() {
         return Err(Error::io(path, "is a directory, expected a texture image"));
     }
-    let bytes = std::fs::read(path)
+    let bytes = crate::input::read_limited(path, crate::input::IMAGE_LIMIT)
         .map_err(|e| Error::io(path, format!("cannot read texture: {}", io_reason(&e))))?;
     if bytes.is_empty() {
         return Err(Error::io(

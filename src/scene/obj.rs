@@ -13,7 +13,7 @@ pub fn load(path: &Path) -> Result<Mesh> {
     if path.is_dir() {
         return Err(Error::io(path, "is a directory, expected an OBJ mesh file"));
     }
-    let bytes = std::fs::read(path)
+    let bytes = crate::input::read_limited(path, crate::input::MESH_LIMIT)
         .map_err(|e| Error::io(path, format!("cannot read mesh: {}", super::io_reason(&e))))?;
     let text = String::from_utf8(bytes)
         .map_err(|_| Error::input(path, "", "not a text OBJ file (binary or invalid UTF-8)"))?;

@@ -119,12 +119,14 @@ pub fn blob(o: &Obj) -> Result<Shape> {
 /// Reads a standalone solid from a small JSON file written like a scene object (`"shape"`
 /// may be left out: `kind` supplies it). For `intersect csg|blob --spec FILE`.
 pub fn load_solid(path: &std::path::Path, kind: &str) -> Result<Object> {
-    let text = std::fs::read_to_string(path).map_err(|e| {
+    let bytes = crate::input::read_limited(path, crate::input::TEXT_LIMIT).map_err(|e| {
         Error::io(
             path,
             format!("cannot read the spec: {}", super::io_reason(&e)),
         )
     })?;
+    let text = String::from_utf8(bytes)
+        .map_err(|_| Error::input(path, "", "not a text file (invalid UTF-8): expected JSON"))?;
     let mut value = super::json::parse(path, &text)?;
     let root = Node {
         v: &value,

@@ -550,6 +550,24 @@ fn cases() -> Vec<Case> {
             vec!["x.ini: line 2:13: [IO] scene: scenefile not found: tried scenefiles/a.json (from the current folder)"],
         ),
         c(
+            "a scene path that never ends (a device)",
+            vec![],
+            render("/dev/zero"),
+            vec!["/dev/zero: cannot read scene: larger than 64 MiB, the most such a file may hold"],
+        ),
+        c(
+            "an empty --mistake",
+            s(obj(SPHERE)),
+            vec!["render", "scene.json", "--mistake="],
+            vec!["argument --mistake", "no name given"],
+        ),
+        c(
+            "more --threads than can be started",
+            s(obj(SPHERE)),
+            vec!["render", "scene.json", "--threads", "100000"],
+            vec!["argument --threads", "100000 is more than 1024"],
+        ),
+        c(
             "an unknown --course-stage",
             s(obj(SPHERE)),
             vec!["render", "scene.json", "--course-stage", "raytrace"],

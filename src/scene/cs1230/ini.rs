@@ -96,7 +96,7 @@ impl Ini {
                 "is a directory, expected a course .ini file",
             ));
         }
-        let bytes = std::fs::read(path).map_err(|e| {
+        let bytes = crate::input::read_limited(path, crate::input::TEXT_LIMIT).map_err(|e| {
             Error::io(
                 path,
                 format!("cannot read ini file: {}", crate::scene::io_reason(&e)),

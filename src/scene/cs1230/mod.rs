@@ -175,7 +175,7 @@ pub fn read(path: &Path) -> Result<Value> {
             "is a directory, expected a scene file (.json)",
         ));
     }
-    let bytes = std::fs::read(path)
+    let bytes = crate::input::read_limited(path, crate::input::TEXT_LIMIT)
         .map_err(|e| Error::io(path, format!("cannot read scene: {}", super::io_reason(&e))))?;
     let text = String::from_utf8(bytes).map_err(|_| {
         Error::input(
