@@ -28,7 +28,11 @@ pub fn read_limited(path: &Path, limit: u64) -> std::io::Result<Vec<u8>> {
     if meta.is_file() && meta.len() > limit {
         return Err(too_big());
     }
-    let mut bytes = Vec::with_capacity(if meta.is_file() { meta.len() as usize } else { 0 });
+    let mut bytes = Vec::with_capacity(if meta.is_file() {
+        meta.len() as usize
+    } else {
+        0
+    });
     file.take(limit + 1).read_to_end(&mut bytes)?;
     if bytes.len() as u64 > limit {
         return Err(too_big());
@@ -56,7 +60,10 @@ mod tests {
         assert_eq!(read_limited(&file, len).unwrap().len() as u64, len);
         let e = read_limited(&file, len - 1).unwrap_err();
         assert_eq!(e.kind(), std::io::ErrorKind::InvalidData);
-        assert!(e.to_string().contains("the most such a file may hold"), "{e}");
+        assert!(
+            e.to_string().contains("the most such a file may hold"),
+            "{e}"
+        );
     }
 
     /// A device that never ends is read only up to the limit.

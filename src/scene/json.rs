@@ -130,10 +130,7 @@ impl<'a> Node<'a> {
             return Err(self.err(format!("expected a whole number ≥ 0, found {x}")));
         }
         if x > u32::MAX as f64 {
-            return Err(self.err(format!(
-                "{x} is too large: at most {} here",
-                u32::MAX
-            )));
+            return Err(self.err(format!("{x} is too large: at most {} here", u32::MAX)));
         }
         Ok(x as u32)
     }

@@ -97,7 +97,13 @@ pub fn draw(scene: &Scene, x: u32, y: u32) -> Result<Canvas, String> {
         c.text((x0, TOP + 8.0), &heading, 13.0, style::ink(), Anchor::Left);
         view.outline(&mut c, &b, style::muted(), 1.2, false);
         let (bx, by) = view.map(DVec3::new(b.min.x, 0.0, b.min.z));
-        c.text((bx + 4.0, by + 12.0), "root", 11.0, style::muted(), Anchor::Left);
+        c.text(
+            (bx + 4.0, by + 12.0),
+            "root",
+            11.0,
+            style::muted(),
+            Anchor::Left,
+        );
         // Culled boxes first, under the entered ones.
         for want in [false, true] {
             for &(node, lane, mask) in tested.iter().filter(|t| depth[t.0] == level) {
@@ -145,7 +151,13 @@ pub fn draw(scene: &Scene, x: u32, y: u32) -> Result<Canvas, String> {
         style::ink(),
         Anchor::Left,
     );
-    c.line((lx, ly + 20.0), (lx + 22.0, ly + 20.0), culled_color(), 1.6, true);
+    c.line(
+        (lx, ly + 20.0),
+        (lx + 22.0, ly + 20.0),
+        culled_color(),
+        1.6,
+        true,
+    );
     c.text(
         (lx + 30.0, ly + 20.0),
         "culled: all the rays miss it (one test skips its whole subtree)",
@@ -201,7 +213,8 @@ struct Panel {
 
 impl Panel {
     fn fit(b: &Aabb, at: (f32, f32), size: (f32, f32)) -> Panel {
-        let extent = DVec2::new(b.max.x - b.min.x, b.max.z - b.min.z).max(DVec2::splat(1e-9)) * 1.08;
+        let extent =
+            DVec2::new(b.max.x - b.min.x, b.max.z - b.min.z).max(DVec2::splat(1e-9)) * 1.08;
         let scale = (size.0 as f64 / extent.x).min(size.1 as f64 / extent.y);
         Panel {
             at,
@@ -214,12 +227,21 @@ impl Panel {
 
     fn map(&self, p: DVec3) -> (f32, f32) {
         (
-            (self.at.0 as f64 + self.size.0 as f64 * 0.5 + (p.x - self.centre.x) * self.scale) as f32,
-            (self.at.1 as f64 + self.size.1 as f64 * 0.5 + (p.z - self.centre.y) * self.scale) as f32,
+            (self.at.0 as f64 + self.size.0 as f64 * 0.5 + (p.x - self.centre.x) * self.scale)
+                as f32,
+            (self.at.1 as f64 + self.size.1 as f64 * 0.5 + (p.z - self.centre.y) * self.scale)
+                as f32,
         )
     }
 
-    fn outline(&self, c: &mut Canvas, bx: &Aabb, color: tiny_skia::Color, width: f32, dashed: bool) {
+    fn outline(
+        &self,
+        c: &mut Canvas,
+        bx: &Aabb,
+        color: tiny_skia::Color,
+        width: f32,
+        dashed: bool,
+    ) {
         let (a, z) = (self.map(bx.min), self.map(bx.max));
         let (x0, y0, x1, y1) = (a.0.min(z.0), a.1.min(z.1), a.0.max(z.0), a.1.max(z.1));
         for (p, q) in [
@@ -238,7 +260,12 @@ impl Panel {
             let (a, z) = (self.map(bx.min), self.map(bx.max));
             let min = (a.0.min(z.0), a.1.min(z.1));
             let size = ((z.0 - a.0).abs(), (z.1 - a.1).abs());
-            c.rect(min, size, Some((style::shape_stroke(), 1.8)), Some(entered_fill()));
+            c.rect(
+                min,
+                size,
+                Some((style::shape_stroke(), 1.8)),
+                Some(entered_fill()),
+            );
         } else {
             self.outline(c, bx, culled_color(), 1.6, true);
         }
@@ -262,7 +289,13 @@ impl Panel {
             if t_start >= t_end {
                 continue;
             }
-            c.line(self.map(r.at(t_start)), self.map(r.at(t_end)), color, 1.0, false);
+            c.line(
+                self.map(r.at(t_start)),
+                self.map(r.at(t_end)),
+                color,
+                1.0,
+                false,
+            );
             if let Some(h) = hit.filter(|h| h.t <= t_stop) {
                 c.circle(self.map(r.at(h.t)), 3.0, Some((color, 1.0)), Some(color));
             }

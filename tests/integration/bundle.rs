@@ -316,7 +316,10 @@ fn stats_name_the_simd_level_the_bundles_ran_on() {
 fn stats_say_why_no_bundles_were_traced() {
     for (extra, why) in [
         (vec!["--sampler", "adaptive"], "the adaptive sampler"),
-        (vec!["--mistake", "object-space-t"], "a mistake that changes"),
+        (
+            vec!["--mistake", "object-space-t"],
+            "a mistake that changes",
+        ),
     ] {
         let out = tmp("stats-no-bundles.png");
         let mut args = vec!["render", "scenes/teapot.json", "-o", out.to_str().unwrap()];
@@ -332,7 +335,13 @@ fn stats_say_why_no_bundles_were_traced() {
     }
     // With bundles traced, no such line.
     let out = tmp("stats-with-bundles.png");
-    let o = rtlab(&["render", "scenes/teapot.json", "-o", out.to_str().unwrap(), "--stats"]);
+    let o = rtlab(&[
+        "render",
+        "scenes/teapot.json",
+        "-o",
+        out.to_str().unwrap(),
+        "--stats",
+    ]);
     assert!(!stderr(&o).contains("no bundles"), "{}", stderr(&o));
 }
 
