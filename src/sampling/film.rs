@@ -97,20 +97,29 @@ pub fn render_cancellable(
 }
 
 trait Tally: Recorder + Default + Send {
-    /// Does it count anything (does `into_stats` return `Some`)?
+    /// Does it count anything?
     const COUNTS: bool;
-    fn into_stats(self) -> Option<(RayCounts, u64, u64)>;
+    /// Intersection tests and BVH nodes so far.
+    fn work(&self) -> [u64; 2];
+    /// Rays so far, by kind.
+    fn rays(&self) -> RayCounts;
 }
 impl Tally for NoRecorder {
     const COUNTS: bool = false;
-    fn into_stats(self) -> Option<(RayCounts, u64, u64)> {
-        None
+    fn work(&self) -> [u64; 2] {
+        [0; 2]
+    }
+    fn rays(&self) -> RayCounts {
+        RayCounts::default()
     }
 }
 impl Tally for Counter {
     const COUNTS: bool = true;
-    fn into_stats(self) -> Option<(RayCounts, u64, u64)> {
-        Some((self.rays, self.total_tests(), self.total_nodes()))
+    fn work(&self) -> [u64; 2] {
+        [self.total_tests(), self.total_nodes()]
+    }
+    fn rays(&self) -> RayCounts {
+        self.rays
     }
 }
 
@@ -149,17 +158,20 @@ fn render_with<R: Tally>(
             if halt() {
                 return Default::default();
             }
-            let mut tally = BundleTally::default();
+            let mut bundles = BundleTally::default();
             // Filled only when counting (`--stats`): a render without it touches no memory
             // for counts (it was 64 bytes a pixel, a tenth of its trace time in page faults).
-            // With it, 16 bytes a pixel (its tests and nodes) and the tile's ray counts.
-            let mut stats = Vec::with_capacity(if R::COUNTS { tile.len() } else { 0 });
-            let mut tile_rays = RayCounts::default();
+            // With it, 16 bytes a pixel (its tests and nodes, pixel l's at `stats[l]`) and the
+            // tile's ray counts. One recorder counts the whole tile; each pixel gets what it
+            // grew by while the pixel's samples were traced.
+            let mut stats = vec![[0u64; 2]; if R::COUNTS { tile.len() } else { 0 }];
+            let mut rec = R::default();
             let mut firsts = Firsts::default();
-            let mut tally_pixel = |rec: R| {
-                if let Some((rays, tests, nodes)) = rec.into_stats() {
-                    tile_rays.add(&rays);
-                    stats.push([tests, nodes]);
+            let tally = |stats: &mut Vec<[u64; 2]>, l: usize, before: [u64; 2], rec: &R| {
+                if R::COUNTS {
+                    let after = rec.work();
+                    stats[l][0] += after[0] - before[0];
+                    stats[l][1] += after[1] - before[1];
                 }
             };
             // Bundles: the tile's samples planned, traced block by block.
@@ -168,15 +180,16 @@ fn render_with<R: Tally>(
                 .flatten();
             let kept = if let Some(plan) = plan {
                 let mut kept = TileSamples::planned(&plan);
-                let mut recs: Vec<R> = (0..tile.len()).map(|_| R::default()).collect();
                 trace_bundled(
                     scene,
                     settings,
                     tile,
                     &plan,
-                    &mut tally,
+                    &mut bundles,
                     |l, (x, y), k, camera, found| {
-                        let r = trace_camera(scene, settings, camera, Some(found), &mut recs[l]);
+                        let before = rec.work();
+                        let r = trace_camera(scene, settings, camera, Some(found), &mut rec);
+                        tally(&mut stats, l, before, &rec);
                         let sample = PixelSample {
                             index: k,
                             film: r.film,
@@ -192,20 +205,17 @@ fn render_with<R: Tally>(
                         !halt()
                     },
                 );
-                if !settings.cancel.is_cancelled() {
-                    recs.into_iter().for_each(&mut tally_pixel);
-                }
                 kept
             } else {
                 let most = tile.len() * (settings.spp as usize).min(16);
                 let mut kept = TileSamples::with_capacity(centres, tile.len(), most);
                 let mut scratch = Vec::new();
-                for (x, y) in tile.pixels() {
+                for (l, (x, y)) in tile.pixels().enumerate() {
                     if settings.cancel.is_cancelled() || halt() {
                         // Ctrl-C or a cancelled token (the caller writes nothing), or stopped.
                         break;
                     }
-                    let mut rec = R::default();
+                    let before = rec.work();
                     kept.push_pixel_with(&mut scratch, |out| {
                         sample_pixel_into(settings, w, h, x, y, out, |k, film| {
                             let mut camera = camera_ray(scene, settings, x, y, k, film);
@@ -213,7 +223,7 @@ fn render_with<R: Tally>(
                             firsts.note(&r, (x, y, k))
                         })
                     });
-                    tally_pixel(rec);
+                    tally(&mut stats, l, before, &rec);
                     // Pixel by pixel, so the bar moves while a slow tile is still being traced.
                     if let Some(p) = progress {
                         p.inc(1);
@@ -222,7 +232,7 @@ fn render_with<R: Tally>(
                 kept
             };
             let Firsts { nan, cut } = firsts;
-            (kept, (stats, tile_rays), nan, cut, tally)
+            (kept, (stats, rec.rays()), nan, cut, bundles)
         })
         .collect();
     let trace_seconds = start.elapsed().as_secs_f64();
