@@ -18,7 +18,7 @@
 //! /work/shared/meshes).
 //!
 //! `cargo bench --bench accel -- --only PASS MESH [REPEATS]` runs one pass alone (single,
-//! bundle, render, render-bundle, render-rays, render-walk, render-stats, shadow or
+//! bundle, render, render-bundle, render-rays, render-walk, render-stats, render-bundle-stats, shadow or
 //! shadow-bundle), for profilers.
 //!
 //! Everything runs on 2 threads (rtlab: a rayon pool of 2; Embree: `threads=2`).
@@ -89,7 +89,7 @@ fn main() {
 }
 
 /// `--only PASS MESH [REPEATS]`: one pass (single, bundle, render, render-bundle,
-/// render-stats, shadow, shadow-bundle)
+/// render-stats, render-bundle-stats, shadow, shadow-bundle)
 /// on one mesh, repeated, with nothing else in the process: for profilers (`perf stat`,
 /// `perf record`), which then see only that pass.
 fn only(args: &[String]) {
@@ -127,12 +127,15 @@ fn only(args: &[String]) {
             "render-stats" => {
                 render_mrays_counting(&view, rtlab::accel::Traversal::Single, true, &pool)
             }
+            "render-bundle-stats" => {
+                render_mrays_counting(&view, rtlab::accel::Traversal::Bundle, true, &pool)
+            }
             "shadow" => {
                 let (secs, rays, _) = shadow_pass(&scene, &cam, &camera, &pool);
                 rays as f64 / secs / 1e6
             }
             _ => {
-                panic!("{pass}: not single, bundle, render, render-bundle, render-rays, render-walk, render-stats, shadow or shadow-bundle")
+                panic!("{pass}: not single, bundle, render, render-bundle, render-rays, render-walk, render-stats, render-bundle-stats, shadow or shadow-bundle")
             }
         });
     }
@@ -783,8 +786,9 @@ struct MeshRow {
     /// a diffuse material without lights, film): single rays and bundles.
     render: f64,
     render_bundle: f64,
-    /// The single-ray render again, counting as `--stats` does.
+    /// The single-ray render again, counting as `--stats` does; and the bundled one.
     render_stats: f64,
+    render_bundle_stats: f64,
     /// Seconds of the bundled render's own camera rays: made; made and walked.
     parts: (f64, f64),
     mesh_only: f64,
@@ -852,7 +856,7 @@ fn bench_mesh(
     let (mut b, mut c, mut m, mut s) = (vec![], vec![], vec![], vec![]);
     let (mut eb, mut ec, mut es, mut em) = (vec![], vec![], vec![], vec![]);
     let (mut e8, mut e16, mut bu, mut rs, mut rb) = (vec![], vec![], vec![], vec![], vec![]);
-    let (mut rc, mut sb, mut pr, mut pw) = (vec![], vec![], vec![], vec![]);
+    let (mut rc, mut rbc, mut sb, mut pr, mut pw) = (vec![], vec![], vec![], vec![], vec![]);
     let view = render_view(obj, &cam, tmp);
     let mut last_embree = None;
     let mut last = None;
@@ -899,6 +903,12 @@ fn bench_mesh(
         rc.push(render_mrays_counting(
             &view,
             rtlab::accel::Traversal::Single,
+            true,
+            pool,
+        ));
+        rbc.push(render_mrays_counting(
+            &view,
+            rtlab::accel::Traversal::Bundle,
             true,
             pool,
         ));
@@ -953,6 +963,7 @@ fn bench_mesh(
         render: median(rs),
         render_bundle: median(rb),
         render_stats: median(rc),
+        render_bundle_stats: median(rbc),
         parts: (median(pr), median(pw)),
         mesh_only: median(m),
         shadow: median(s),
@@ -1022,15 +1033,15 @@ fn print_mesh_table(rows: &[MeshRow]) {
     println!();
     println!("camera rays, Mrays/s (medians); ratios to Embree's rtcIntersect1 (x1), rtcIntersect8 (x8), rtcIntersect16 (x16) of the same run");
     println!(
-        "{:<17} | {:>7} {:>7} {:>7} | {:>7} {:>5} {:>5} | {:>7} {:>5} {:>5} {:>5} | {:>7} {:>5} | {:>7} {:>5} | {:>7} {:>6}",
-        "mesh", "Embree1", "Embree8", "Emb16", "single", "x1", "x16", "bundle", "x1", "x16", "/sgl", "render", "x1", "r+bndl", "x1", "r+stats", "/rndr"
+        "{:<17} | {:>7} {:>7} {:>7} | {:>7} {:>5} {:>5} | {:>7} {:>5} {:>5} {:>5} | {:>7} {:>5} | {:>7} {:>5} | {:>7} {:>6} | {:>7} {:>6}",
+        "mesh", "Embree1", "Embree8", "Emb16", "single", "x1", "x16", "bundle", "x1", "x16", "/sgl", "render", "x1", "r+bndl", "x1", "r+stats", "/rndr", "rb+stat", "/rbndl"
     );
     for r in rows {
         let e = r.embree.as_ref();
         let f = |x: Option<f64>, p: usize| x.map_or("-".to_string(), |v| format!("{v:.p$}"));
         let ratio = |x: f64, by: fn(&EmbreeSummary) -> f64| f(e.map(|e| x / by(e)), 2);
         println!(
-            "{:<17} | {:>7} {:>7} {:>7} | {:>7.2} {:>5} {:>5} | {:>7.2} {:>5} {:>5} {:>5.2} | {:>7.2} {:>5} | {:>7.2} {:>5} | {:>7.2} {:>6.2}",
+            "{:<17} | {:>7} {:>7} {:>7} | {:>7.2} {:>5} {:>5} | {:>7.2} {:>5} {:>5} {:>5.2} | {:>7.2} {:>5} | {:>7.2} {:>5} | {:>7.2} {:>6.2} | {:>7.2} {:>6.2}",
             r.name,
             f(e.map(|e| e.camera), 2),
             f(e.map(|e| e.packet8), 2),
@@ -1048,12 +1059,14 @@ fn print_mesh_table(rows: &[MeshRow]) {
             ratio(r.render_bundle, |e| e.camera),
             r.render_stats,
             r.render_stats / r.render,
+            r.render_bundle_stats,
+            r.render_bundle_stats / r.render_bundle,
         );
     }
     println!("bundle: the same rays in 4x4 blocks through Accel::closest_bundle (same hits, checked); /sgl: bundle / single");
     println!("render, r+bndl: `rtlab render` of the same view (its own camera, a diffuse mesh, no lights: generation, traversal, shading, film), trace time, --traversal single / bundle");
     println!(
-        "r+stats: the single-ray render counting as --stats does; /rndr: its speed / render's"
+        "r+stats, rb+stat: the single-ray and the bundled render counting as --stats does; /rndr, /rbndl: their speed / the same render's without counting"
     );
     println!();
     println!("the bundled render's trace per camera ray, ns of wall time (2 threads; medians): its rays made, walked, and the rest");
