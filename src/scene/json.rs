@@ -29,6 +29,9 @@ pub struct Node<'a> {
 /// Parses JSON text, turning a syntax error into `file: line L:C: ...` (the line and column
 /// where the parser stopped, both counted from 1, as editors show them).
 pub fn parse(file: &Path, text: &str) -> Result<Value> {
+    // A byte-order mark, which some Windows editors write at the start of UTF-8 files, is
+    // not JSON: skip it rather than report "expected value" at line 1:1.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     if text.trim().is_empty() {
         return Err(Error::input(
             file,
@@ -320,5 +323,16 @@ impl<'a> Obj<'a> {
                 )
             })
             .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_byte_order_mark_is_skipped() {
+        let v = parse(Path::new("s.json"), "\u{feff}{\"a\": 1}").unwrap();
+        assert_eq!(v["a"], 1);
     }
 }

@@ -114,6 +114,8 @@ impl Ini {
 
     /// Parses ini text (`path` names the file in messages).
     pub fn parse(path: &Path, text: &str) -> Result<Ini> {
+        // A byte-order mark (some Windows editors write one) is not part of the first line.
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         let mut section: Option<&'static str> = None;
         let mut entries: Vec<Entry> = Vec::new();
         let mut warnings = Vec::new();
@@ -498,6 +500,12 @@ mod tests {
 
     fn parse(text: &str) -> Result<Ini> {
         Ini::parse(Path::new("x.ini"), text)
+    }
+
+    #[test]
+    fn a_byte_order_mark_is_skipped() {
+        let ini = parse("\u{feff}[IO]\n    scene = a.json\n").unwrap();
+        assert_eq!(ini.get("IO", "scene").unwrap().value, "a.json");
     }
 
     #[test]
