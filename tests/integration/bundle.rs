@@ -314,35 +314,29 @@ fn stats_name_the_simd_level_the_bundles_ran_on() {
 /// than printing "bundle traversal" over rays that all went alone.
 #[test]
 fn stats_say_why_no_bundles_were_traced() {
-    for (extra, why) in [
-        (vec!["--sampler", "adaptive"], "the adaptive sampler"),
-        (
-            vec!["--mistake", "object-space-t"],
-            "a mistake that changes",
-        ),
-    ] {
-        let out = tmp("stats-no-bundles.png");
+    let out = tmp("stats-bundles.png");
+    let stats_of = |extra: &[&str]| {
         let mut args = vec!["render", "scenes/teapot.json", "-o", out.to_str().unwrap()];
         args.extend(["--width", "32", "--height", "24", "--stats"]);
         args.extend(extra);
         let o = rtlab(&args);
         assert!(o.status.success(), "{}", stderr(&o));
-        let err = stderr(&o);
-        assert!(
-            err.contains(&format!("no bundles: {why}")) && !err.contains("bundles of up to"),
-            "{err}"
-        );
+        stderr(&o)
+    };
+    for (extra, why) in [
+        (["--sampler", "adaptive"], "the adaptive sampler"),
+        (["--mistake", "object-space-t"], "a mistake that changes"),
+    ] {
+        let err = stats_of(&extra);
+        let said = err.contains(&format!("no bundles: {why}"));
+        assert!(said && !err.contains("bundles of up to"), "{err}");
     }
     // With bundles traced, no such line.
-    let out = tmp("stats-with-bundles.png");
-    let o = rtlab(&[
-        "render",
-        "scenes/teapot.json",
-        "-o",
-        out.to_str().unwrap(),
-        "--stats",
-    ]);
-    assert!(!stderr(&o).contains("no bundles"), "{}", stderr(&o));
+    let err = stats_of(&[]);
+    assert!(
+        !err.contains("no bundles") && err.contains("bundles of up to"),
+        "{err}"
+    );
 }
 
 /// Bundles find each ray's own closest face, bit for bit, where the order of the tests could

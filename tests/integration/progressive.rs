@@ -71,20 +71,10 @@ fn budgeted_render_equals_passes_k_on_any_thread_count() {
 /// says why rather than stopping silently early.
 #[test]
 fn a_budget_past_the_last_pass_says_where_the_passes_end() {
-    let scene = path("scenes/spheres.json");
     let out = tmp("all-passes.png");
-    let o = rtlab(&[
-        "render",
-        scene.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--width",
-        "2",
-        "--height",
-        "2",
-        "--time-budget",
-        "600",
-    ]);
+    let mut args = vec!["render", "scenes/spheres.json", "-o", out.to_str().unwrap()];
+    args.extend(["--width", "2", "--height", "2", "--time-budget", "600"]);
+    let o = rtlab(&args);
     assert!(o.status.success(), "{}", stderr(&o));
     let err = stderr(&o);
     assert!(
