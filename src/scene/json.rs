@@ -65,6 +65,80 @@ pub fn parse(file: &Path, text: &str) -> Result<Value> {
     })
 }
 
+/// The first object in JSON `text` (already parsed: [`parse`]) that names a key twice, as an
+/// error at the second: a JSON reader keeps the last silently, so a key written twice (a
+/// pasted "material", say) would quietly replace the first.
+pub fn duplicate_key(file: &Path, text: &str) -> Option<Error> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let e = serde_json::from_str::<NoDuplicateKeys>(text).err()?;
+    let what = e.to_string();
+    let what = what.split(" at line").next().unwrap_or(&what).to_string();
+    Some(Error::input(
+        file,
+        format!("line {}:{}", e.line(), e.column().max(1)),
+        what,
+    ))
+}
+
+/// Reads JSON only to look at each object's keys ([`duplicate_key`]).
+struct NoDuplicateKeys;
+
+impl<'de> serde::Deserialize<'de> for NoDuplicateKeys {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        d.deserialize_any(KeysOnce)
+    }
+}
+
+struct KeysOnce;
+
+impl<'de> serde::de::Visitor<'de> for KeysOnce {
+    type Value = NoDuplicateKeys;
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str("any JSON value")
+    }
+    fn visit_bool<E>(self, _: bool) -> std::result::Result<NoDuplicateKeys, E> {
+        Ok(NoDuplicateKeys)
+    }
+    fn visit_i64<E>(self, _: i64) -> std::result::Result<NoDuplicateKeys, E> {
+        Ok(NoDuplicateKeys)
+    }
+    fn visit_u64<E>(self, _: u64) -> std::result::Result<NoDuplicateKeys, E> {
+        Ok(NoDuplicateKeys)
+    }
+    fn visit_f64<E>(self, _: f64) -> std::result::Result<NoDuplicateKeys, E> {
+        Ok(NoDuplicateKeys)
+    }
+    fn visit_str<E>(self, _: &str) -> std::result::Result<NoDuplicateKeys, E> {
+        Ok(NoDuplicateKeys)
+    }
+    fn visit_unit<E>(self) -> std::result::Result<NoDuplicateKeys, E> {
+        Ok(NoDuplicateKeys)
+    }
+    fn visit_seq<A: serde::de::SeqAccess<'de>>(
+        self,
+        mut seq: A,
+    ) -> std::result::Result<NoDuplicateKeys, A::Error> {
+        while seq.next_element::<NoDuplicateKeys>()?.is_some() {}
+        Ok(NoDuplicateKeys)
+    }
+    fn visit_map<A: serde::de::MapAccess<'de>>(
+        self,
+        mut map: A,
+    ) -> std::result::Result<NoDuplicateKeys, A::Error> {
+        let mut seen = std::collections::HashSet::new();
+        while let Some(key) = map.next_key::<String>()? {
+            if !seen.insert(key.clone()) {
+                return Err(serde::de::Error::custom(format!(
+                    "key \"{key}\" appears twice in one object (the second would silently \
+                     replace the first)"
+                )));
+            }
+            map.next_value::<NoDuplicateKeys>()?;
+        }
+        Ok(NoDuplicateKeys)
+    }
+}
+
 fn type_name(v: &Value) -> &'static str {
     match v {
         Value::Null => "null",
@@ -329,6 +403,20 @@ impl<'a> Obj<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_key_written_twice_is_found_where_it_is_written_again() {
+        let text = "{\"a\": 1,\n \"b\": {\"c\": 2, \"c\": 3}}";
+        let e = duplicate_key(Path::new("s.json"), text)
+            .unwrap()
+            .to_string();
+        assert!(
+            e.contains("line 2:") && e.contains("key \"c\" appears twice"),
+            "{e}"
+        );
+        // The same key in two different objects is fine.
+        assert!(duplicate_key(Path::new("s.json"), "[{\"a\": 1}, {\"a\": 2}]").is_none());
+    }
 
     #[test]
     fn a_byte_order_mark_is_skipped() {

@@ -247,8 +247,14 @@ impl Scene {
             )
         })?;
         let value = json::parse(path, &text)?;
+        let twice = json::duplicate_key(path, &text);
         let (mut scene, warnings) = if crate::scene::is_cs1230(&value) {
-            cs1230::load_reporting(path, &value)?
+            // The course's own reader takes the last silently too: a warning, not a refusal.
+            let (scene, mut warnings) = cs1230::load_reporting(path, &value)?;
+            warnings.extend(twice.map(|e| e.to_string()));
+            (scene, warnings)
+        } else if let Some(e) = twice {
+            return Err(e);
         } else {
             (native::load(path, &value)?, Vec::new())
         };

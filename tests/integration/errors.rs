@@ -535,6 +535,12 @@ fn cases() -> Vec<Case> {
             vec!["argument --sample", "sample 5 does not exist", "1 sample"],
         ),
         c(
+            "a key written twice in one object",
+            s(obj(r#"{"shape": "sphere", "radius": 1, "radius": 2}"#)),
+            r(),
+            vec!["scene.json: line", "key \"radius\" appears twice in one object"],
+        ),
+        c(
             "a misspelt key in a course .ini",
             vec![
                 ("scene.json", obj(SPHERE)),
