@@ -111,6 +111,26 @@ fn each_pass_is_the_render_of_its_settings_and_stop_cancels() {
     assert!(two.output.stats.is_some());
 }
 
+/// A pass is asked whether to stop inside a tile too (before each pixel, or each 4×4 block
+/// with bundles), not only before each tile: on an 8×8 image, one tile, a stop that says
+/// yes on its third question of pass 3 (the first is before the pass, the second before
+/// the tile) abandons pass 3 there, and pass 2 is what remains.
+#[test]
+fn a_pass_stops_inside_a_tile() {
+    use rtlab::accel::Traversal;
+    use std::sync::atomic::{AtomicU32, Ordering};
+    let mut scene = scene("scenes/spheres.json");
+    scene.camera.update_size(8, 8);
+    for traversal in [Traversal::Single, Traversal::Bundle] {
+        let mut settings = scene.render.clone();
+        settings.traversal = traversal;
+        let asked = AtomicU32::new(0);
+        let stop = |k: u32| k >= 3 && asked.fetch_add(1, Ordering::Relaxed) >= 2;
+        let last = progressive(&scene, &settings, false, None, &stop, |_| {});
+        assert_eq!(last.expect("passes 1 and 2").index, 2, "{traversal:?}");
+    }
+}
+
 #[test]
 fn bad_pass_arguments_are_refused() {
     let scene = path("scenes/spheres.json");
