@@ -170,8 +170,11 @@ impl Mistake {
     }
 
     /// Parses a comma-separated list of names; the error names the unknown one and the
-    /// nearest known name.
+    /// nearest known name, or says that the list names none.
     pub fn parse_list(list: &str) -> Result<Mistakes, String> {
+        if list.split(',').all(|name| name.trim().is_empty()) {
+            return Err("no name given (rtlab mistakes lists the names)".into());
+        }
         let mut set = Mistakes::NONE;
         for part in list.split(',').map(str::trim).filter(|p| !p.is_empty()) {
             match Mistake::parse(part) {

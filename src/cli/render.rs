@@ -349,12 +349,9 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
                     simd_lanes(),
                     per_bundle
                 )
-            } else if scene.render.traversal == Traversal::Bundle && r.camera > 0 {
-                let why = if scene.render.mistakes.changes_hits() {
-                    "a mistake that changes which object a ray hits is on"
-                } else {
-                    "the adaptive sampler decides its samples while it traces"
-                };
+            } else if let Some(why) = crate::sampling::bundles::alone_because(&scene.render)
+                .filter(|_| scene.render.traversal == Traversal::Bundle && r.camera > 0)
+            {
                 format!("no bundles: {why}, so every camera ray went alone\n")
             } else {
                 String::new()

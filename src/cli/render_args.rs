@@ -347,12 +347,6 @@ impl RenderArgs {
     pub fn mistake_set(&self) -> Result<crate::mistakes::Mistakes> {
         let mut set = crate::mistakes::Mistakes::NONE;
         for list in &self.mistakes {
-            if list.split(',').all(|name| name.trim().is_empty()) {
-                return Err(Error::arg(
-                    "--mistake",
-                    "no name given (rtlab mistakes lists the names)",
-                ));
-            }
             let more = crate::mistakes::Mistake::parse_list(list)
                 .map_err(|m| Error::arg("--mistake", m))?;
             set = set.iter().chain(more.iter()).collect();

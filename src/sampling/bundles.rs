@@ -30,13 +30,23 @@ impl BundleTally {
     }
 }
 
-/// Do a render's camera rays go in bundles? When asked to (`--traversal bundle`), unless a
-/// mistake changes which object a ray hits (every ray then takes the mistaken single-ray
-/// path) or the adaptive sampler decides its samples while it traces (they go alone).
+/// Do a render's camera rays go in bundles? When asked to (`--traversal bundle`), unless
+/// [`alone_because`] gives a reason they cannot.
 pub fn bundled(settings: &RenderSettings) -> bool {
-    settings.traversal == crate::accel::Traversal::Bundle
-        && !settings.mistakes.changes_hits()
-        && settings.sampler != crate::scene::SamplerKind::Adaptive
+    settings.traversal == crate::accel::Traversal::Bundle && alone_because(settings).is_none()
+}
+
+/// Why a render's camera rays go alone even with `--traversal bundle` (`--stats` says it): a
+/// mistake changes which object a ray hits (every ray then takes the mistaken single-ray
+/// path), or the adaptive sampler decides its samples while it traces.
+pub fn alone_because(settings: &RenderSettings) -> Option<&'static str> {
+    if settings.mistakes.changes_hits() {
+        Some("a mistake that changes which object a ray hits is on")
+    } else if settings.sampler == crate::scene::SamplerKind::Adaptive {
+        Some("the adaptive sampler decides its samples while it traces")
+    } else {
+        None
+    }
 }
 
 /// Where a tile's samples go, pixel by pixel in the tile's row-major order, by sample index.

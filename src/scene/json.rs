@@ -29,9 +29,7 @@ pub struct Node<'a> {
 /// Parses JSON text, turning a syntax error into `file: line L:C: ...` (the line and column
 /// where the parser stopped, both counted from 1, as editors show them).
 pub fn parse(file: &Path, text: &str) -> Result<Value> {
-    // A byte-order mark, which some Windows editors write at the start of UTF-8 files, is
-    // not JSON: skip it rather than report "expected value" at line 1:1.
-    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let text = without_bom(text);
     if text.trim().is_empty() {
         return Err(Error::input(
             file,
@@ -40,12 +38,11 @@ pub fn parse(file: &Path, text: &str) -> Result<Value> {
         ));
     }
     serde_json::from_str(text).map_err(|e| {
-        let what = e.to_string();
-        let what = what.split(" at line").next().unwrap_or(&what).to_string();
+        let (at, what) = where_and_what(&e);
         if what == "recursion limit exceeded" {
             return Error::input(
                 file,
-                format!("line {}:{}", e.line(), e.column().max(1)),
+                at,
                 format!(
                     "the JSON is nested more than {MAX_NESTING} levels deep (objects and arrays \
                      inside one another), the most the scene reader allows (it keeps the reader's \
@@ -57,27 +54,31 @@ pub fn parse(file: &Path, text: &str) -> Result<Value> {
                 ),
             );
         }
-        Error::input(
-            file,
-            format!("line {}:{}", e.line(), e.column().max(1)),
-            format!("invalid JSON: {what}"),
-        )
+        Error::input(file, at, format!("invalid JSON: {what}"))
     })
+}
+
+/// A byte-order mark, which some Windows editors write at the start of UTF-8 files, is not
+/// JSON: it is skipped rather than reported as "expected value" at line 1:1.
+fn without_bom(text: &str) -> &str {
+    text.strip_prefix('\u{feff}').unwrap_or(text)
+}
+
+/// A serde_json error as `line L:C` (counted from 1, as editors show them) and its message
+/// without serde's own " at line … column …".
+fn where_and_what(e: &serde_json::Error) -> (String, String) {
+    let what = e.to_string();
+    let what = what.split(" at line").next().unwrap_or(&what).to_string();
+    (format!("line {}:{}", e.line(), e.column().max(1)), what)
 }
 
 /// The first object in JSON `text` (already parsed: [`parse`]) that names a key twice, as an
 /// error at the second: a JSON reader keeps the last silently, so a key written twice (a
 /// pasted "material", say) would quietly replace the first.
 pub fn duplicate_key(file: &Path, text: &str) -> Option<Error> {
-    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    let e = serde_json::from_str::<NoDuplicateKeys>(text).err()?;
-    let what = e.to_string();
-    let what = what.split(" at line").next().unwrap_or(&what).to_string();
-    Some(Error::input(
-        file,
-        format!("line {}:{}", e.line(), e.column().max(1)),
-        what,
-    ))
+    let e = serde_json::from_str::<NoDuplicateKeys>(without_bom(text)).err()?;
+    let (at, what) = where_and_what(&e);
+    Some(Error::input(file, at, what))
 }
 
 /// Reads JSON only to look at each object's keys ([`duplicate_key`]).

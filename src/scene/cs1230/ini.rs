@@ -114,8 +114,6 @@ impl Ini {
 
     /// Parses ini text (`path` names the file in messages).
     pub fn parse(path: &Path, text: &str) -> Result<Ini> {
-        // A byte-order mark (some Windows editors write one) is not part of the first line.
-        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         let mut section: Option<&'static str> = None;
         let mut entries: Vec<Entry> = Vec::new();
         let mut warnings = Vec::new();
