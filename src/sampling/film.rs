@@ -22,14 +22,48 @@ pub struct RenderStats {
     pub rays: RayCounts,
     pub tests: u64,
     pub nodes: u64,
-    /// Intersection tests + BVH nodes per pixel (the `cost` AOV), row-major.
-    pub cost: Vec<u64>,
-    /// BVH nodes visited per pixel (the scene's and the meshes'), row-major.
-    pub pixel_nodes: Vec<u64>,
-    /// Intersection tests per pixel (objects, and faces inside meshes), row-major.
-    pub pixel_tests: Vec<u64>,
+    /// The same work pixel by pixel, when it was asked for ([`Counting::PerPixel`]).
+    pub per_pixel: Option<PixelWork>,
     /// Bundles of camera rays traced (`--traversal bundle`) and the nodes they opened.
     pub bundles: BundleTally,
+}
+
+/// Intersection tests (objects, and faces inside meshes) and BVH nodes visited (the scene's
+/// and the meshes'), per pixel, row-major: their sum is what the `cost` AOV shows.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct PixelWork {
+    pub tests: Vec<u64>,
+    pub nodes: Vec<u64>,
+}
+
+impl PixelWork {
+    /// Tests + nodes of pixel `i` (row-major): the `cost` AOV's value.
+    pub fn cost(&self, i: usize) -> u64 {
+        self.tests[i] + self.nodes[i]
+    }
+}
+
+/// What a render counts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Counting {
+    /// Nothing: the zero-cost recorder runs.
+    Off,
+    /// Rays, tests and nodes over the whole render (what `render --stats` prints).
+    Totals,
+    /// The totals, and each pixel's tests and nodes ([`PixelWork`]): 16 bytes a pixel more
+    /// while the render runs, and the work of keeping them.
+    PerPixel,
+}
+
+impl Counting {
+    /// [`Counting::Totals`] when `count`, else [`Counting::Off`].
+    pub fn totals_if(count: bool) -> Counting {
+        if count {
+            Counting::Totals
+        } else {
+            Counting::Off
+        }
+    }
 }
 
 pub struct RenderOutput {
@@ -51,17 +85,29 @@ pub struct RenderOutput {
     pub cancelled: bool,
 }
 
-/// Renders the scene. With `count`, a [`Counter`] records rays, tests and nodes per pixel;
-/// otherwise the zero-cost [`NoRecorder`] runs. Tiles ([`tiles`]) are traced in parallel and
-/// gathered back into rows, and each sample's randomness depends only on its own key, so the result is the
-/// same on any number of threads.
+/// Renders the scene. With `count`, a [`Counter`] records rays, tests and nodes over the
+/// whole render ([`Counting::Totals`]); otherwise the zero-cost [`NoRecorder`] runs. Tiles
+/// ([`tiles`]) are traced in parallel and gathered back into rows, and each sample's
+/// randomness depends only on its own key, so the result is the same on any number of
+/// threads.
 pub fn render(
     scene: &Scene,
     settings: &RenderSettings,
     count: bool,
     progress: Option<&indicatif::ProgressBar>,
 ) -> RenderOutput {
-    render_until(scene, settings, count, progress, &|| false)
+    render_counting(scene, settings, Counting::totals_if(count), progress)
+}
+
+/// [`render`], counting what `counting` asks for (each pixel's work too, with
+/// [`Counting::PerPixel`]).
+pub fn render_counting(
+    scene: &Scene,
+    settings: &RenderSettings,
+    counting: Counting,
+    progress: Option<&indicatif::ProgressBar>,
+) -> RenderOutput {
+    render_until(scene, settings, counting, progress, &|| false)
         .expect("a render nothing stops runs to the end")
 }
 
@@ -74,14 +120,14 @@ pub fn render(
 pub fn render_until(
     scene: &Scene,
     settings: &RenderSettings,
-    count: bool,
+    counting: Counting,
     progress: Option<&indicatif::ProgressBar>,
     stop: &(dyn Fn() -> bool + Sync),
 ) -> Option<RenderOutput> {
-    if count {
-        render_with::<Counter>(scene, settings, progress, stop)
-    } else {
-        render_with::<NoRecorder>(scene, settings, progress, stop)
+    match counting {
+        Counting::Off => render_with::<NoRecorder>(scene, settings, false, progress, stop),
+        Counting::Totals => render_with::<Counter>(scene, settings, false, progress, stop),
+        Counting::PerPixel => render_with::<Counter>(scene, settings, true, progress, stop),
     }
 }
 
@@ -93,7 +139,7 @@ pub fn render_cancellable(
     cancel: &std::sync::atomic::AtomicBool,
 ) -> Option<RenderOutput> {
     let stop = || cancel.load(std::sync::atomic::Ordering::Relaxed);
-    render_until(scene, settings, false, None, &stop).filter(|o| !o.cancelled)
+    render_until(scene, settings, Counting::Off, None, &stop).filter(|o| !o.cancelled)
 }
 
 trait Tally: Recorder + Default + Send {
@@ -123,20 +169,23 @@ impl Tally for Counter {
     }
 }
 
+/// The render, with recorder `R` (counting or not) and, when `per_pixel`, each pixel's work.
 fn render_with<R: Tally>(
     scene: &Scene,
     settings: &RenderSettings,
+    per_pixel: bool,
     progress: Option<&indicatif::ProgressBar>,
     stop: &(dyn Fn() -> bool + Sync),
 ) -> Option<RenderOutput> {
     let (w, h) = (scene.camera.width, scene.camera.height);
     let stopped = std::sync::atomic::AtomicBool::new(false);
     let start = Instant::now();
-    /// One tile's samples (pixel by pixel in the tile's own row-major order) and counts,
-    /// its first non-finite sample, and its samples the ray budget cut (count, first).
+    /// One tile's samples (pixel by pixel in the tile's own row-major order) and counts
+    /// (per pixel, if kept; its tests and nodes; its rays), its first non-finite sample, and
+    /// its samples the ray budget cut (count, first).
     type Traced = (
         TileSamples,
-        (Vec<[u64; 2]>, RayCounts),
+        (Vec<[u64; 2]>, [u64; 2], RayCounts),
         Option<(u32, u32, u32)>,
         (u64, Option<(u32, u32, u32)>),
         BundleTally,
@@ -159,16 +208,18 @@ fn render_with<R: Tally>(
                 return Default::default();
             }
             let mut bundles = BundleTally::default();
-            // Filled only when counting (`--stats`): a render without it touches no memory
-            // for counts (it was 64 bytes a pixel, a tenth of its trace time in page faults).
-            // With it, 16 bytes a pixel (its tests and nodes, pixel l's at `stats[l]`) and the
-            // tile's ray counts. One recorder counts the whole tile; each pixel gets what it
-            // grew by while the pixel's samples were traced.
-            let mut stats = vec![[0u64; 2]; if R::COUNTS { tile.len() } else { 0 }];
+            // One recorder counts the whole tile. Each pixel's work is kept only when asked
+            // for (`per_pixel`): 16 bytes a pixel (its tests and nodes, pixel l's at
+            // `stats[l]`, what the recorder grew by while the pixel's samples were traced),
+            // memory `--stats` does not need (its totals are the recorder's) and that cost
+            // it a tenth of the bundled render's trace time in page faults and bookkeeping.
+            let per_pixel = R::COUNTS && per_pixel;
+            let mut stats = vec![[0u64; 2]; if per_pixel { tile.len() } else { 0 }];
             let mut rec = R::default();
             let mut firsts = Firsts::default();
+            let work = |rec: &R| if per_pixel { rec.work() } else { [0; 2] };
             let tally = |stats: &mut Vec<[u64; 2]>, l: usize, before: [u64; 2], rec: &R| {
-                if R::COUNTS {
+                if per_pixel {
                     let after = rec.work();
                     stats[l][0] += after[0] - before[0];
                     stats[l][1] += after[1] - before[1];
@@ -187,7 +238,7 @@ fn render_with<R: Tally>(
                     &plan,
                     &mut bundles,
                     |l, (x, y), k, camera, found| {
-                        let before = rec.work();
+                        let before = work(&rec);
                         let r = trace_camera(scene, settings, camera, Some(found), &mut rec);
                         tally(&mut stats, l, before, &rec);
                         let sample = PixelSample {
@@ -215,7 +266,7 @@ fn render_with<R: Tally>(
                         // Ctrl-C or a cancelled token (the caller writes nothing), or stopped.
                         break;
                     }
-                    let before = rec.work();
+                    let before = work(&rec);
                     kept.push_pixel_with(&mut scratch, |out| {
                         sample_pixel_into(settings, w, h, x, y, out, |k, film| {
                             let mut camera = camera_ray(scene, settings, x, y, k, film);
@@ -232,7 +283,7 @@ fn render_with<R: Tally>(
                 kept
             };
             let Firsts { nan, cut } = firsts;
-            (kept, (stats, rec.rays()), nan, cut, bundles)
+            (kept, (stats, rec.work(), rec.rays()), nan, cut, bundles)
         })
         .collect();
     let trace_seconds = start.elapsed().as_secs_f64();
@@ -267,25 +318,29 @@ fn render_with<R: Tally>(
         .iter()
         .filter_map(|t| t.3 .1)
         .min_by_key(|&(x, y, _)| (y, x));
-    let mut stats: Option<RenderStats> = None;
-    // Counting, every pixel of every tile has its counts (a short tile was cancelled, and a
-    // cancelled render returned above): index them, so that a gap could never shift a
-    // pixel's counts onto another.
-    let counted = row_major_order(w, h).filter(|_| R::COUNTS);
-    for [tests, nodes] in counted.map(|(t, l)| traced[t].1 .0[l]) {
-        let st = stats.get_or_insert_with(RenderStats::default);
-        st.tests += tests;
-        st.nodes += nodes;
-        st.cost.push(tests + nodes);
-        st.pixel_tests.push(tests);
-        st.pixel_nodes.push(nodes);
-    }
-    if let Some(st) = stats.as_mut() {
+    let stats = R::COUNTS.then(|| {
+        let mut st = RenderStats::default();
         for t in &traced {
-            st.rays.add(&t.1 .1);
+            let [tests, nodes] = t.1 .1;
+            st.tests += tests;
+            st.nodes += nodes;
+            st.rays.add(&t.1 .2);
             st.bundles.add(&t.4);
         }
-    }
+        // Every pixel of every tile has its counts (a short tile was cancelled, and a
+        // cancelled render returned above): index them, so that a gap could never shift a
+        // pixel's counts onto another.
+        st.per_pixel = per_pixel.then(|| {
+            let (tests, nodes) = row_major_order(w, h)
+                .map(|(t, l)| {
+                    let [tests, nodes] = traced[t].1 .0[l];
+                    (tests, nodes)
+                })
+                .unzip();
+            PixelWork { tests, nodes }
+        });
+        st
+    });
     // Each pixel's samples: its tile's, and its place in the tile.
     let grid: Vec<(&TileSamples, usize)> = row_major_order(w, h)
         .map(|(t, l)| (&traced[t].0, l))

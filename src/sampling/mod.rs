@@ -12,7 +12,10 @@ mod sampler;
 mod tiles;
 
 pub use film::{check_memory, memory_needed, MEMORY_BUDGET};
-pub use film::{render, render_cancellable, render_until, RenderOutput, RenderStats};
+pub use film::{
+    render, render_cancellable, render_counting, render_until, Counting, PixelWork, RenderOutput,
+    RenderStats,
+};
 pub use filter::Filter;
 pub use image::{encode, encode_as, Image};
 pub use reconstruct::reconstruct as render_reconstruct;

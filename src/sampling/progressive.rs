@@ -105,7 +105,8 @@ pub fn progressive(
         if stop(k) {
             break;
         }
-        let Some(output) = render_until(scene, &settings, count, None, &|| stop(k)) else {
+        let counting = super::film::Counting::totals_if(count);
+        let Some(output) = render_until(scene, &settings, counting, None, &|| stop(k)) else {
             break;
         };
         if crate::interrupt::requested() {

@@ -5,7 +5,7 @@
 use super::common::*;
 use glam::DVec3;
 use rtlab::sampling::aov::{render_aov, trace_aov_samples, Aov, AovSample};
-use rtlab::sampling::render;
+use rtlab::sampling::{render, RenderStats};
 use rtlab::scene::{RenderSettings, Scene};
 use rtlab::viz::steps::{plan, render_frames, Step, StepKind};
 
@@ -473,11 +473,38 @@ fn cost_aov_counts_what_stats_count() {
     ] {
         let mut scene = small(file, w, h);
         scene.render.traversal = traversal;
-        let stats = render(&scene, &scene.render, true, None).stats.unwrap();
+        let counting = rtlab::sampling::Counting::PerPixel;
+        let stats = rtlab::sampling::render_counting(&scene, &scene.render, counting, None)
+            .stats
+            .unwrap();
+        let work = stats
+            .per_pixel
+            .clone()
+            .expect("each pixel's work, as asked");
+        let (tests, nodes) = (
+            work.tests.iter().sum::<u64>(),
+            work.nodes.iter().sum::<u64>(),
+        );
+        assert_eq!(
+            (tests, nodes),
+            (stats.tests, stats.nodes),
+            "{file} {traversal:?}"
+        );
+        // `--stats` counts the totals alone: the same totals.
+        let totals = render(&scene, &scene.render, true, None).stats.unwrap();
+        assert_eq!(totals.per_pixel, None);
+        assert_eq!(
+            RenderStats {
+                per_pixel: None,
+                ..stats.clone()
+            },
+            totals,
+            "{file} {traversal:?}"
+        );
         let samples = trace_aov_samples(&scene, &scene.render);
         for (i, px) in samples.pixels.iter().enumerate() {
             let cost: u64 = px.iter().map(|s| s.1.cost).sum();
-            assert_eq!(cost, stats.cost[i], "{file} {traversal:?} pixel {i}");
+            assert_eq!(cost, work.cost(i), "{file} {traversal:?} pixel {i}");
             for (_, s) in px {
                 assert!(s.ray_depth <= scene.render.max_depth);
             }
