@@ -159,7 +159,8 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
     let t0 = Instant::now();
     let mut render_args = args.render.clone();
     render_args.quiet = args.quiet;
-    let loaded = render_args.load_full(&args.scene)?;
+    // Loading builds the meshes' BVHs: on the render's threads too.
+    let loaded = with_threads(args.threads, || render_args.load_full(&args.scene))??;
     // A course ini names its output (created with its folders, as the course's program
     // does); -o wins.
     let out = match (&args.output, &loaded.output) {
@@ -204,15 +205,8 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
         scene.render = pass_of(&scene, k)?;
     }
     let load = t0.elapsed().as_secs_f64();
-    // The accelerators (scene level and each mesh's) are built during load; build them once
-    // more to time them for the stats.
-    let build = if stats_format.is_some() {
-        with_threads(args.threads, || {
-            crate::accel::Accel::time_build(scene.render.accel, &scene.objects)
-        })?
-    } else {
-        0.0
-    };
+    // The accelerators (scene level and each mesh's) were built, and timed, during load.
+    let build = scene.accel.build_seconds(&scene.objects);
 
     // Said before it happens: on a terminal, the first line warns of trees the budget will cut.
     if !args.quiet && std::io::stderr().is_terminal() {
@@ -360,7 +354,7 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
                 "rays: {} camera, {} shadow, {} reflection, {} refraction, {} total\n\
                  intersection tests: {}, BVH nodes visited: {} ({:.1} per ray, {traversal} traversal)\n\
                  {bundle_line}\
-                 time: load {:.3} s, build {:.3} s, trace {:.3} s ({:.2} Mrays/s)",
+                 time: load {:.3} s (of which building the BVHs {:.3} s), trace {:.3} s ({:.2} Mrays/s)",
                 r.camera,
                 r.shadow,
                 r.reflection,

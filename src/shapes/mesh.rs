@@ -29,6 +29,8 @@ pub struct Mesh {
     /// The bounding volume hierarchy over the faces (object space).
     pub bvh: Bvh,
     pub packed: Vec<PackedFace>,
+    /// Seconds it took to build `bvh` and `packed` (for `--stats`).
+    pub build_seconds: f64,
 }
 
 /// A mesh face as the BVH's leaves keep it: its three corners in f32. The mesh's positions
@@ -73,7 +75,9 @@ impl Mesh {
     ) -> Mesh {
         let positions: Vec<DVec3> = positions.into_iter().map(single_precision).collect();
         let bounds = Aabb::around(&positions);
+        let start = std::time::Instant::now();
         let (bvh, packed) = Mesh::build_bvh(&positions, &faces);
+        let build_seconds = start.elapsed().as_secs_f64();
         Mesh {
             positions,
             normals,
@@ -82,6 +86,7 @@ impl Mesh {
             bounds,
             bvh,
             packed,
+            build_seconds,
         }
     }
 
