@@ -63,16 +63,18 @@ fn budgeted(
     quiet: bool,
 ) -> Option<Pass> {
     // The pass is asked whether to stop before each pixel: a flag that a timer sets is
-    // cheaper to ask than the clock. (The timer thread outlives a render that ends first;
-    // it only sleeps.)
+    // cheaper to ask than the clock. The timer waits for the budget or for the passes to
+    // end first (`finished` dropped), whichever comes first.
     let expired = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
     let timer = expired.clone();
     let budget = std::time::Duration::from_secs_f64(budget.min(1e9));
-    std::thread::spawn(move || {
-        std::thread::sleep(budget);
-        timer.store(true, std::sync::atomic::Ordering::Relaxed);
+    let (finished, wait) = std::sync::mpsc::channel::<()>();
+    let timer = std::thread::spawn(move || {
+        if let Err(std::sync::mpsc::RecvTimeoutError::Timeout) = wait.recv_timeout(budget) {
+            timer.store(true, std::sync::atomic::Ordering::Relaxed);
+        }
     });
-    progressive(
+    let last = progressive(
         scene,
         &scene.render,
         count,
@@ -88,7 +90,10 @@ fn budgeted(
                 );
             }
         },
-    )
+    );
+    drop(finished);
+    timer.join().expect("the budget's timer does not panic");
+    last
 }
 
 /// The most threads `--threads` may ask for: far more than any processor has cores, and few
