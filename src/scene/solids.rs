@@ -128,6 +128,10 @@ pub fn load_solid(path: &std::path::Path, kind: &str) -> Result<Object> {
     let text = String::from_utf8(bytes)
         .map_err(|_| Error::input(path, "", "not a text file (invalid UTF-8): expected JSON"))?;
     let mut value = super::json::parse(path, &text)?;
+    // Written like a scene's object, so refused like one's: a key given twice.
+    if let Some(e) = super::json::duplicate_key(path, &text) {
+        return Err(e);
+    }
     let root = Node {
         v: &value,
         path: "",

@@ -541,6 +541,15 @@ fn cases() -> Vec<Case> {
             vec!["scene.json: line", "key \"radius\" appears twice in one object"],
         ),
         c(
+            "a key written twice in a solid's --spec",
+            vec![(
+                "spec.json",
+                br#"{"shape": "blob", "threshold": 0.5, "threshold": 0.4, "spheres": []}"#.to_vec(),
+            )],
+            vec!["intersect", "blob", "--spec", "spec.json", "--origin", "0,0,5", "--dir", "0,0,-1"],
+            vec!["spec.json: line 1:", "key \"threshold\" appears twice in one object"],
+        ),
+        c(
             "a misspelt key in a course .ini",
             vec![
                 ("scene.json", obj(SPHERE)),
