@@ -74,7 +74,7 @@ pub struct Accel {
     /// scene's only bounded object (its BVH would be one box around it).
     pub unbounded: Vec<usize>,
     /// Seconds [`Accel::build`] took (the meshes' own BVHs not included: [`Accel::build_seconds`]).
-    pub build_seconds: f64,
+    pub own_build_seconds: f64,
 }
 
 // ANCHOR: object_test
@@ -137,20 +137,24 @@ pub fn test_object_any<R: Recorder>(
 
 impl Accel {
     /// Seconds it took to build everything a scene's rays traverse: this structure and each
-    /// mesh's own BVH and packed faces (each mesh once, however many objects share it), as
-    /// each was timed when it was built (for `--stats`, which builds nothing again).
+    /// mesh's own BVH and packed faces (each mesh once, however many objects or CSG children
+    /// share it), as each was timed when it was built (for `--stats`, which builds nothing
+    /// again).
     pub fn build_seconds(&self, objects: &[Object]) -> f64 {
-        let mut seen: Vec<*const crate::shapes::Mesh> = Vec::new();
-        let mut seconds = self.build_seconds;
-        for o in objects {
-            if let crate::shapes::Shape::Mesh(m) = &o.shape {
-                if !seen.contains(&std::sync::Arc::as_ptr(m)) {
-                    seen.push(std::sync::Arc::as_ptr(m));
-                    seconds += m.build_seconds;
+        use crate::shapes::{Mesh, Shape};
+        use std::collections::HashMap;
+        fn meshes(shape: &Shape, seen: &mut HashMap<*const Mesh, f64>) {
+            match shape {
+                Shape::Mesh(m) => {
+                    seen.insert(std::sync::Arc::as_ptr(m), m.build_seconds);
                 }
+                Shape::Csg(c) => c.children.iter().for_each(|k| meshes(&k.shape, seen)),
+                _ => {}
             }
         }
-        seconds
+        let mut seen = HashMap::new();
+        objects.iter().for_each(|o| meshes(&o.shape, &mut seen));
+        self.own_build_seconds + seen.values().sum::<f64>()
     }
 
     pub fn build(kind: AccelKind, objects: &[Object]) -> Accel {
@@ -177,7 +181,7 @@ impl Accel {
         } else if !accel.linear {
             accel.bvh = Bvh::build(&boxes);
         }
-        accel.build_seconds = start.elapsed().as_secs_f64();
+        accel.own_build_seconds = start.elapsed().as_secs_f64();
         accel
     }
 

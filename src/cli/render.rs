@@ -102,19 +102,39 @@ const MAX_THREADS: usize = 1024;
 
 /// Runs `f` on a thread pool of `threads` workers (or rayon's default).
 pub fn with_threads<T: Send>(threads: Option<usize>, f: impl FnOnce() -> T + Send) -> Result<T> {
-    match threads {
-        None => Ok(f()),
-        Some(0) => Err(Error::arg("--threads", "must be at least 1")),
-        Some(n) if n > MAX_THREADS => Err(Error::arg(
-            "--threads",
-            format!("{n} is more than {MAX_THREADS}, the most a render may start"),
-        )),
-        Some(n) => {
-            let pool = rayon::ThreadPoolBuilder::new()
+    Ok(Threads::start(threads)?.run(f))
+}
+
+/// The threads a command runs on, started once: `--threads N` workers, or rayon's own pool.
+pub struct Threads(Option<rayon::ThreadPool>);
+
+impl Threads {
+    /// Starts the workers now (rayon's own pool too, which otherwise starts with the first
+    /// parallel work and would be timed as part of it).
+    pub fn start(threads: Option<usize>) -> Result<Threads> {
+        match threads {
+            None => {
+                rayon::current_num_threads();
+                Ok(Threads(None))
+            }
+            Some(0) => Err(Error::arg("--threads", "must be at least 1")),
+            Some(n) if n > MAX_THREADS => Err(Error::arg(
+                "--threads",
+                format!("{n} is more than {MAX_THREADS}, the most a render may start"),
+            )),
+            Some(n) => rayon::ThreadPoolBuilder::new()
                 .num_threads(n)
                 .build()
-                .map_err(|e| Error::arg("--threads", format!("cannot start {n} threads: {e}")))?;
-            Ok(pool.install(f))
+                .map(|pool| Threads(Some(pool)))
+                .map_err(|e| Error::arg("--threads", format!("cannot start {n} threads: {e}"))),
+        }
+    }
+
+    /// Runs `f` on these threads.
+    pub fn run<T: Send>(&self, f: impl FnOnce() -> T + Send) -> T {
+        match &self.0 {
+            Some(pool) => pool.install(f),
+            None => f(),
         }
     }
 }
@@ -161,11 +181,12 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
             "cannot be combined with --aov (the cost AOV shows the work per pixel)",
         ));
     }
+    let threads = Threads::start(args.threads)?;
     let t0 = Instant::now();
     let mut render_args = args.render.clone();
     render_args.quiet = args.quiet;
     // Loading builds the meshes' BVHs: on the render's threads too.
-    let loaded = with_threads(args.threads, || render_args.load_full(&args.scene))??;
+    let loaded = threads.run(|| render_args.load_full(&args.scene))?;
     // A course ini names its output (created with its folders, as the course's program
     // does); -o wins.
     let out = match (&args.output, &loaded.output) {
@@ -196,7 +217,7 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
             Some(k) => pass_of(&scene, k)?,
             None => scene.render.clone(),
         };
-        let img = with_threads(args.threads, || render_aov(&scene, &settings, aov))?;
+        let img = threads.run(|| render_aov(&scene, &settings, aov));
         write_png(&out, &img.image)?;
         if !args.quiet {
             eprintln!("{}", img.legend);
@@ -243,7 +264,7 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
     // The pass a budgeted render reached (number, spp), for the stats.
     let mut reached = args.passes.map(|k| (k, scene.render.spp));
     let result = if let Some(budget) = args.time_budget {
-        let pass = with_threads(args.threads, || {
+        let pass = threads.run(|| {
             budgeted(
                 &scene,
                 budget,
@@ -251,7 +272,7 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
                 stats_format.is_some(),
                 args.quiet,
             )
-        })?;
+        });
         crate::interrupt::check()?;
         let pass = pass.ok_or_else(|| Error::Other("no pass was completed".into()))?;
         // The sequence itself ended (a budget longer than all of it): say why.
@@ -269,9 +290,7 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
         reached = Some((pass.index, pass.settings.spp));
         pass.output
     } else {
-        with_threads(args.threads, || {
-            render(&scene, &scene.render, stats_format.is_some(), bar.as_ref())
-        })?
+        threads.run(|| render(&scene, &scene.render, stats_format.is_some(), bar.as_ref()))
     };
     if let Some(b) = bar {
         b.finish_and_clear();

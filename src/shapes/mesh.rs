@@ -19,7 +19,7 @@ use glam::{DVec2, DVec3};
 /// It carries its own BVH over its faces, and every face's corners in f32 ([`PackedFace`],
 /// 36 bytes) in the BVH's leaf order, so a leaf's faces sit next to each other in memory:
 /// slot k of `packed` is face `bvh.prims[k]`.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct Mesh {
     pub positions: Vec<DVec3>,
     pub normals: Vec<DVec3>,

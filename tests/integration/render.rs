@@ -85,6 +85,47 @@ fn stats_json_has_the_contract_keys_and_counts_add_up() {
     assert!(v["mrays_per_s"].as_f64().unwrap() > 0.0);
 }
 
+/// The BVHs are built once, at load, and `--stats` times that build: part of the load, and
+/// every mesh's counted (the teapot's 992 faces take a measurable moment).
+#[test]
+fn stats_time_the_build_the_load_made() {
+    let out = tmp("stats-build.png");
+    let s = path("scenes/teapot.json");
+    let args = ["--width", "16", "--height", "12", "--stats", "json"];
+    let o = rtlab(
+        &[
+            &["render", s.to_str().unwrap(), "-o", out.to_str().unwrap()][..],
+            &args,
+        ]
+        .concat(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let (load, build) = (
+        v["seconds"]["load"].as_f64().unwrap(),
+        v["seconds"]["build"].as_f64().unwrap(),
+    );
+    assert!(
+        build > 0.0 && build <= load,
+        "build {build} s, load {load} s"
+    );
+    let scene = rtlab::scene::Scene::load(&s).unwrap();
+    let meshes: Vec<f64> = scene
+        .objects
+        .iter()
+        .filter_map(|o| match &o.shape {
+            rtlab::shapes::Shape::Mesh(m) => Some(m.build_seconds),
+            _ => None,
+        })
+        .collect();
+    assert!(!meshes.is_empty() && meshes.iter().all(|&t| t > 0.0));
+    let total = scene.accel.build_seconds(&scene.objects);
+    assert_eq!(
+        total,
+        scene.accel.own_build_seconds + meshes.iter().sum::<f64>()
+    );
+}
+
 #[test]
 fn default_output_is_the_scene_stem_in_the_current_folder() {
     let dir = tmp("default-out");
