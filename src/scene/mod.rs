@@ -231,21 +231,7 @@ impl Scene {
     /// [`Scene::load`], with what a student should hear about the file (a texture found
     /// somewhere else, a duplicate template name): one sentence each, file and place named.
     pub fn load_reporting(path: &Path) -> Result<(Scene, Vec<String>)> {
-        if path.is_dir() {
-            return Err(Error::io(
-                path,
-                "is a directory, expected a scene file (.json)",
-            ));
-        }
-        let bytes = crate::input::read_limited(path, crate::input::TEXT_LIMIT)
-            .map_err(|e| Error::io(path, format!("cannot read scene: {}", io_reason(&e))))?;
-        let text = String::from_utf8(bytes).map_err(|_| {
-            Error::input(
-                path,
-                "",
-                "not a text file (invalid UTF-8): expected a JSON scene",
-            )
-        })?;
+        let text = read_scene_text(path)?;
         let value = json::parse(path, &text)?;
         let twice = json::duplicate_key(path, &text);
         let (mut scene, warnings) = if crate::scene::is_cs1230(&value) {
@@ -289,6 +275,26 @@ impl Scene {
     pub fn object_name(&self, object: usize) -> &str {
         &self.objects[object].name
     }
+}
+
+/// The text of a scene file (either format), or the error that names why there is none: a
+/// folder, unreadable, larger than [`crate::input::TEXT_LIMIT`], not UTF-8.
+pub(crate) fn read_scene_text(path: &Path) -> Result<String> {
+    if path.is_dir() {
+        return Err(Error::io(
+            path,
+            "is a directory, expected a scene file (.json)",
+        ));
+    }
+    let bytes = crate::input::read_limited(path, crate::input::TEXT_LIMIT)
+        .map_err(|e| Error::io(path, format!("cannot read scene: {}", io_reason(&e))))?;
+    String::from_utf8(bytes).map_err(|_| {
+        Error::input(
+            path,
+            "",
+            "not a text file (invalid UTF-8): expected a JSON scene",
+        )
+    })
 }
 
 /// A scene as every command that renders loads it: from a scene file or from a course

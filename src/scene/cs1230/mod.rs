@@ -16,7 +16,7 @@ use super::json::Node;
 use super::{Global, Object, RenderSettings, Scene, SceneFormat};
 use crate::accel::Accel;
 use crate::camera::Camera;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::math::Transform;
 use crate::shading::{Light, LightKind, Material};
 use crate::shapes::Shape;
@@ -169,21 +169,7 @@ pub fn course_settings() -> RenderSettings {
 
 /// Reads and parses a file as JSON (for `rtlab convert` and `validate`'s warnings).
 pub fn read(path: &Path) -> Result<Value> {
-    if path.is_dir() {
-        return Err(Error::io(
-            path,
-            "is a directory, expected a scene file (.json)",
-        ));
-    }
-    let bytes = crate::input::read_limited(path, crate::input::TEXT_LIMIT)
-        .map_err(|e| Error::io(path, format!("cannot read scene: {}", super::io_reason(&e))))?;
-    let text = String::from_utf8(bytes).map_err(|_| {
-        Error::input(
-            path,
-            "",
-            "not a text file (invalid UTF-8): expected a JSON scene",
-        )
-    })?;
+    let text = super::read_scene_text(path)?;
     super::json::parse(path, &text)
 }
 
