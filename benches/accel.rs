@@ -32,6 +32,11 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
 
+/// The rtlab binary's own allocator (src/main.rs), so that the render rows time the render
+/// as the binary runs it.
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 const W: usize = 1280;
 const H: usize = 720;
 const THREADS: usize = 2;
