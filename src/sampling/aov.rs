@@ -459,25 +459,20 @@ pub fn render_aov(scene: &Scene, base: &RenderSettings, aov: Aov) -> AovImage {
     };
 
     let filter = Filter::new(settings.filter);
-    let colors: Vec<DVec3> = (0..h)
-        .into_par_iter()
-        .flat_map_iter(|y| {
-            let (samples, ranges, filter) = (&samples, &ranges, &filter);
-            (0..w).map(move |x| {
-                if aov == Aov::Cost {
-                    // Per pixel, not filtered: the work this pixel's samples caused.
-                    let c = pixel_cost(&samples.pixels[(y * w + x) as usize]);
-                    return heat(c as f64 / ranges.max_cost.max(1) as f64);
-                }
-                render_reconstruct(filter, x, y, w, h, |qx, qy| {
-                    samples.pixels[(qy * w + qx) as usize]
-                        .iter()
-                        .map(|(film, s)| (*film, aov.display(s, ranges), 1.0))
-                })
-                .0
-            })
+    let colors = super::Image::from_fn(w, h, |x, y| {
+        if aov == Aov::Cost {
+            // Per pixel, not filtered: the work this pixel's samples caused.
+            let c = pixel_cost(&samples.pixels[(y * w + x) as usize]);
+            return heat(c as f64 / ranges.max_cost.max(1) as f64);
+        }
+        render_reconstruct(&filter, x, y, w, h, |qx, qy| {
+            samples.pixels[(qy * w + qx) as usize]
+                .iter()
+                .map(|(film, s)| (*film, aov.display(s, &ranges), 1.0))
         })
-        .collect();
+        .0
+    })
+    .pixels;
     let encoding = if aov.is_radiance() {
         settings.encoding
     } else {

@@ -348,24 +348,14 @@ fn render_with<R: Tally>(
     let spp_map = Some(grid.iter().map(|&(kept, l)| kept.count(l)).collect());
     let filter = Filter::for_settings(settings);
     let kernel = Kernel::new(&filter, settings.subsample);
-    let pixels = (0..h)
-        .into_par_iter()
-        .flat_map_iter(|y| {
-            let (grid, kernel) = (&grid, &kernel);
-            (0..w).map(move |x| {
-                reconstruct_color(kernel, (x, y), (w, h), |qx, qy| {
-                    let (kept, l) = grid[(qy * w + qx) as usize];
-                    kept.of(l, (qx, qy))
-                })
-            })
+    let image = Image::from_fn(w, h, |x, y| {
+        reconstruct_color(&kernel, (x, y), (w, h), |qx, qy| {
+            let (kept, l) = grid[(qy * w + qx) as usize];
+            kept.of(l, (qx, qy))
         })
-        .collect();
+    });
     Some(RenderOutput {
-        image: Image {
-            width: w,
-            height: h,
-            pixels,
-        },
+        image,
         stats,
         trace_seconds,
         first_nan,
