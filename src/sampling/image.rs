@@ -14,9 +14,9 @@ pub struct Image {
 
 impl Image {
     /// The image whose pixel (x, y) is `color(x, y)`, rows computed in parallel straight
-    /// into their place. (Collecting a parallel iterator of unknown length instead grew the
-    /// vector by doubling: a 1280×720 image was copied about ten times over and its new
-    /// pages faulted in each time, a third of a render's reconstruction.)
+    /// into their place. (Collecting a parallel iterator of unknown length instead grew a
+    /// vector by doubling on each thread and then joined the threads' pieces: the image was
+    /// copied about twice over, into memory faulted in afresh each time.)
     pub fn from_fn(width: u32, height: u32, color: impl Fn(u32, u32) -> DVec3 + Sync) -> Image {
         use rayon::prelude::*;
         let mut pixels = vec![DVec3::ZERO; width as usize * height as usize];
