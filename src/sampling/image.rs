@@ -103,3 +103,34 @@ pub fn encode_as(c: DVec3, encoding: Encoding, mistakes: Mistakes) -> [u8; 3] {
     [f(c.x), f(c.y), f(c.z)]
 }
 // ANCHOR_END: encode
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `Image::from_fn` puts pixel (x, y) at row y, column x, whatever the thread count, and
+    /// makes an empty image of a zero width or height.
+    #[test]
+    fn from_fn_puts_each_pixel_in_its_place() {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(3)
+            .build()
+            .unwrap();
+        let image =
+            pool.install(|| Image::from_fn(7, 5, |x, y| DVec3::new(x as f64, y as f64, 1.0)));
+        assert_eq!((image.width, image.height, image.pixels.len()), (7, 5, 35));
+        for y in 0..5 {
+            for x in 0..7 {
+                assert_eq!(
+                    image.get(x, y),
+                    DVec3::new(x as f64, y as f64, 1.0),
+                    "({x}, {y})"
+                );
+            }
+        }
+        for (w, h) in [(0, 4), (4, 0), (0, 0)] {
+            let empty = Image::from_fn(w, h, |_, _| DVec3::ONE);
+            assert!(empty.pixels.is_empty(), "{w}×{h}");
+        }
+    }
+}
