@@ -27,8 +27,18 @@ pub struct Node<'a> {
 }
 
 /// Parses JSON text, turning a syntax error into `file: line L:C: ...` (the line and column
-/// where the parser stopped, both counted from 1, as editors show them).
+/// where the parser stopped, both counted from 1, as editors show them). A key written twice
+/// in one object keeps its last value, as JSON readers do; [`parse_noting_twice`] says so.
 pub fn parse(file: &Path, text: &str) -> Result<Value> {
+    parse_noting_twice(file, text).map(|(value, _)| value)
+}
+
+/// [`parse`], and the first object that names a key twice, as an error at its second place: a
+/// JSON reader keeps the last value silently, so a key written twice (a pasted "material",
+/// say) would quietly replace the first. One pass over the text builds the value and watches
+/// the keys; only a file that does repeat a key is read a second time, for the value with
+/// the last of each.
+pub fn parse_noting_twice(file: &Path, text: &str) -> Result<(Value, Option<Error>)> {
     let text = without_bom(text);
     if text.trim().is_empty() {
         return Err(Error::input(
@@ -37,25 +47,38 @@ pub fn parse(file: &Path, text: &str) -> Result<Value> {
             "the file is empty: expected a JSON scene",
         ));
     }
-    serde_json::from_str(text).map_err(|e| {
+    let e = match serde_json::from_str::<KeysOnce>(text) {
+        Ok(KeysOnce(value)) => return Ok((value, None)),
+        Err(e) => e,
+    };
+    // The only data errors this reader raises are its own: a key written twice.
+    if e.classify() == serde_json::error::Category::Data {
         let (at, what) = where_and_what(&e);
-        if what == "recursion limit exceeded" {
-            return Error::input(
-                file,
-                at,
-                format!(
-                    "the JSON is nested more than {MAX_NESTING} levels deep (objects and arrays \
-                     inside one another), the most the scene reader allows (it keeps the reader's \
-                     stack bounded). Each CSG level takes two (the node and its \"children\" list), so a \
-                     CSG tree can be about {} levels deep, and CS1230 groups the same. A csg node \
-                     takes any number of children, folded left to right: write one union of many \
-                     children (or one difference A − B − C − ...) instead of nesting pairs (in a CS1230 scenefile: many primitives in one group)",
-                    MAX_NESTING / 2 - 2
-                ),
-            );
-        }
-        Error::input(file, at, format!("invalid JSON: {what}"))
-    })
+        let value = serde_json::from_str(text).map_err(|e| syntax_error(file, &e))?;
+        return Ok((value, Some(Error::input(file, at, what))));
+    }
+    Err(syntax_error(file, &e))
+}
+
+/// A serde_json syntax error (or nesting too deep) as the scene reader reports it.
+fn syntax_error(file: &Path, e: &serde_json::Error) -> Error {
+    let (at, what) = where_and_what(e);
+    if what == "recursion limit exceeded" {
+        return Error::input(
+            file,
+            at,
+            format!(
+                "the JSON is nested more than {MAX_NESTING} levels deep (objects and arrays \
+                 inside one another), the most the scene reader allows (it keeps the reader's \
+                 stack bounded). Each CSG level takes two (the node and its \"children\" list), so a \
+                 CSG tree can be about {} levels deep, and CS1230 groups the same. A csg node \
+                 takes any number of children, folded left to right: write one union of many \
+                 children (or one difference A − B − C − ...) instead of nesting pairs (in a CS1230 scenefile: many primitives in one group)",
+                MAX_NESTING / 2 - 2
+            ),
+        );
+    }
+    Error::input(file, at, format!("invalid JSON: {what}"))
 }
 
 /// A byte-order mark, which some Windows editors write at the start of UTF-8 files, is not
@@ -72,71 +95,73 @@ fn where_and_what(e: &serde_json::Error) -> (String, String) {
     (format!("line {}:{}", e.line(), e.column().max(1)), what)
 }
 
-/// The first object in JSON `text` (already parsed: [`parse`]) that names a key twice, as an
-/// error at the second: a JSON reader keeps the last silently, so a key written twice (a
-/// pasted "material", say) would quietly replace the first.
-pub fn duplicate_key(file: &Path, text: &str) -> Option<Error> {
-    let e = serde_json::from_str::<NoDuplicateKeys>(without_bom(text)).err()?;
-    let (at, what) = where_and_what(&e);
-    Some(Error::input(file, at, what))
-}
+/// A JSON value read as serde_json's own `Value` reads it (the same numbers, strings,
+/// arrays and maps), but refusing, where it stands, a key its object already has.
+struct KeysOnce(Value);
 
-/// Reads JSON only to look at each object's keys ([`duplicate_key`]).
-struct NoDuplicateKeys;
-
-impl<'de> serde::Deserialize<'de> for NoDuplicateKeys {
+impl<'de> serde::Deserialize<'de> for KeysOnce {
     fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
-        d.deserialize_any(KeysOnce)
+        d.deserialize_any(KeysOnceVisitor)
     }
 }
 
-struct KeysOnce;
+struct KeysOnceVisitor;
 
-impl<'de> serde::de::Visitor<'de> for KeysOnce {
-    type Value = NoDuplicateKeys;
+impl<'de> serde::de::Visitor<'de> for KeysOnceVisitor {
+    type Value = KeysOnce;
     fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
         f.write_str("any JSON value")
     }
-    fn visit_bool<E>(self, _: bool) -> std::result::Result<NoDuplicateKeys, E> {
-        Ok(NoDuplicateKeys)
+    fn visit_bool<E>(self, b: bool) -> std::result::Result<KeysOnce, E> {
+        Ok(KeysOnce(Value::Bool(b)))
     }
-    fn visit_i64<E>(self, _: i64) -> std::result::Result<NoDuplicateKeys, E> {
-        Ok(NoDuplicateKeys)
+    fn visit_i64<E>(self, i: i64) -> std::result::Result<KeysOnce, E> {
+        Ok(KeysOnce(Value::Number(i.into())))
     }
-    fn visit_u64<E>(self, _: u64) -> std::result::Result<NoDuplicateKeys, E> {
-        Ok(NoDuplicateKeys)
+    fn visit_u64<E>(self, u: u64) -> std::result::Result<KeysOnce, E> {
+        Ok(KeysOnce(Value::Number(u.into())))
     }
-    fn visit_f64<E>(self, _: f64) -> std::result::Result<NoDuplicateKeys, E> {
-        Ok(NoDuplicateKeys)
+    fn visit_f64<E>(self, x: f64) -> std::result::Result<KeysOnce, E> {
+        // As `Value` does: a number JSON cannot hold becomes null.
+        Ok(KeysOnce(
+            serde_json::Number::from_f64(x).map_or(Value::Null, Value::Number),
+        ))
     }
-    fn visit_str<E>(self, _: &str) -> std::result::Result<NoDuplicateKeys, E> {
-        Ok(NoDuplicateKeys)
+    fn visit_str<E>(self, s: &str) -> std::result::Result<KeysOnce, E> {
+        Ok(KeysOnce(Value::String(s.to_owned())))
     }
-    fn visit_unit<E>(self) -> std::result::Result<NoDuplicateKeys, E> {
-        Ok(NoDuplicateKeys)
+    fn visit_string<E>(self, s: String) -> std::result::Result<KeysOnce, E> {
+        Ok(KeysOnce(Value::String(s)))
+    }
+    fn visit_unit<E>(self) -> std::result::Result<KeysOnce, E> {
+        Ok(KeysOnce(Value::Null))
     }
     fn visit_seq<A: serde::de::SeqAccess<'de>>(
         self,
         mut seq: A,
-    ) -> std::result::Result<NoDuplicateKeys, A::Error> {
-        while seq.next_element::<NoDuplicateKeys>()?.is_some() {}
-        Ok(NoDuplicateKeys)
+    ) -> std::result::Result<KeysOnce, A::Error> {
+        let mut items = Vec::new();
+        while let Some(KeysOnce(v)) = seq.next_element()? {
+            items.push(v);
+        }
+        Ok(KeysOnce(Value::Array(items)))
     }
     fn visit_map<A: serde::de::MapAccess<'de>>(
         self,
         mut map: A,
-    ) -> std::result::Result<NoDuplicateKeys, A::Error> {
-        let mut seen = std::collections::HashSet::new();
+    ) -> std::result::Result<KeysOnce, A::Error> {
+        let mut object = serde_json::Map::new();
         while let Some(key) = map.next_key::<String>()? {
-            if !seen.insert(key.clone()) {
+            if object.contains_key(&key) {
                 return Err(serde::de::Error::custom(format!(
                     "key \"{key}\" appears twice in one object (the second would silently \
                      replace the first)"
                 )));
             }
-            map.next_value::<NoDuplicateKeys>()?;
+            let KeysOnce(v) = map.next_value()?;
+            object.insert(key, v);
         }
-        Ok(NoDuplicateKeys)
+        Ok(KeysOnce(Value::Object(object)))
     }
 }
 
@@ -408,15 +433,23 @@ mod tests {
     #[test]
     fn a_key_written_twice_is_found_where_it_is_written_again() {
         let text = "{\"a\": 1,\n \"b\": {\"c\": 2, \"c\": 3}}";
-        let e = duplicate_key(Path::new("s.json"), text)
-            .unwrap()
-            .to_string();
+        let (value, twice) = parse_noting_twice(Path::new("s.json"), text).unwrap();
+        let e = twice.unwrap().to_string();
         assert!(
             e.contains("line 2:") && e.contains("key \"c\" appears twice"),
             "{e}"
         );
-        // The same key in two different objects is fine.
-        assert!(duplicate_key(Path::new("s.json"), "[{\"a\": 1}, {\"a\": 2}]").is_none());
+        // The value keeps the last, as serde_json's own reader does.
+        assert_eq!(value, serde_json::from_str::<Value>(text).unwrap());
+        assert_eq!(value["b"]["c"], 3);
+        // The same key in two different objects is fine, and the value is the same as
+        // serde_json's, numbers, strings, nulls and nesting included.
+        let text = "[{\"a\": 1}, {\"a\": 2.5e-3, \"b\": [null, true, -7, 18446744073709551615, \"\\u00e9\"]}]";
+        let (value, twice) = parse_noting_twice(Path::new("s.json"), text).unwrap();
+        assert!(twice.is_none());
+        assert_eq!(value, serde_json::from_str::<Value>(text).unwrap());
+        // A syntax error is still one.
+        assert!(parse_noting_twice(Path::new("s.json"), "{\"a\": 1,}").is_err());
     }
 
     #[test]

@@ -232,8 +232,7 @@ impl Scene {
     /// somewhere else, a duplicate template name): one sentence each, file and place named.
     pub fn load_reporting(path: &Path) -> Result<(Scene, Vec<String>)> {
         let text = read_scene_text(path)?;
-        let value = json::parse(path, &text)?;
-        let twice = json::duplicate_key(path, &text);
+        let (value, twice) = json::parse_noting_twice(path, &text)?;
         let (mut scene, warnings) = if crate::scene::is_cs1230(&value) {
             // The course's own reader takes the last silently too: a warning, not a refusal.
             let (scene, mut warnings) = cs1230::load_reporting(path, &value)?;

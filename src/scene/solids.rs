@@ -127,9 +127,9 @@ pub fn load_solid(path: &std::path::Path, kind: &str) -> Result<Object> {
     })?;
     let text = String::from_utf8(bytes)
         .map_err(|_| Error::input(path, "", "not a text file (invalid UTF-8): expected JSON"))?;
-    let mut value = super::json::parse(path, &text)?;
+    let (mut value, twice) = super::json::parse_noting_twice(path, &text)?;
     // Written like a scene's object, so refused like one's: a key given twice.
-    if let Some(e) = super::json::duplicate_key(path, &text) {
+    if let Some(e) = twice {
         return Err(e);
     }
     let root = Node {
