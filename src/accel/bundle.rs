@@ -29,7 +29,9 @@ use super::lanes::{count, F32s, F64s, FW, LANES};
 use crate::math::Ray;
 use arrayvec::ArrayVec;
 
-/// Rays in a bundle: a 4×4 block of pixels (camera rays of one sample index).
+/// Rays in a bundle: a 4×4 block of pixels (camera rays of one sample index). (Eight and
+/// thirty-two were tried on an AVX2 processor: eight ran the terrain's bundles at 0.85;
+/// thirty-two the bare bundles at 1.00 to 1.12 but the bundled render at 0.90 to 0.96.)
 pub const BUNDLE: usize = LANES;
 
 /// A subtree that no more than this many of the bundle's rays enter is walked by each of them
