@@ -279,19 +279,25 @@ impl Scene {
 /// The text of a scene file (either format), or the error that names why there is none: a
 /// folder, unreadable, larger than [`crate::input::TEXT_LIMIT`], not UTF-8.
 pub(crate) fn read_scene_text(path: &Path) -> Result<String> {
+    read_json_text(path, "scene")
+}
+
+/// The text of a JSON file the user names, a `kind` of file ("scene", or "spec" for a
+/// standalone solid), with the errors of [`read_scene_text`] in that kind's words.
+pub(crate) fn read_json_text(path: &Path, kind: &str) -> Result<String> {
     if path.is_dir() {
         return Err(Error::io(
             path,
-            "is a directory, expected a scene file (.json)",
+            format!("is a directory, expected a {kind} file (.json)"),
         ));
     }
     let bytes = crate::input::read_limited(path, crate::input::TEXT_LIMIT)
-        .map_err(|e| Error::io(path, format!("cannot read scene: {}", io_reason(&e))))?;
+        .map_err(|e| Error::io(path, format!("cannot read {kind}: {}", io_reason(&e))))?;
     String::from_utf8(bytes).map_err(|_| {
         Error::input(
             path,
             "",
-            "not a text file (invalid UTF-8): expected a JSON scene",
+            format!("not a text file (invalid UTF-8): expected a JSON {kind}"),
         )
     })
 }

@@ -119,14 +119,7 @@ pub fn blob(o: &Obj) -> Result<Shape> {
 /// Reads a standalone solid from a small JSON file written like a scene object (`"shape"`
 /// may be left out: `kind` supplies it). For `intersect csg|blob --spec FILE`.
 pub fn load_solid(path: &std::path::Path, kind: &str) -> Result<Object> {
-    let bytes = crate::input::read_limited(path, crate::input::TEXT_LIMIT).map_err(|e| {
-        Error::io(
-            path,
-            format!("cannot read the spec: {}", super::io_reason(&e)),
-        )
-    })?;
-    let text = String::from_utf8(bytes)
-        .map_err(|_| Error::input(path, "", "not a text file (invalid UTF-8): expected JSON"))?;
+    let text = super::read_json_text(path, "spec")?;
     let (mut value, twice) = super::json::parse_noting_twice(path, &text)?;
     // Written like a scene's object, so refused like one's: a key given twice.
     if let Some(e) = twice {

@@ -550,6 +550,18 @@ fn cases() -> Vec<Case> {
             vec!["spec.json: line 1:", "key \"threshold\" appears twice in one object"],
         ),
         c(
+            "a solid's --spec that is a folder",
+            vec![("specs/x", vec![])],
+            vec!["intersect", "blob", "--spec", "specs", "--origin", "0,0,5", "--dir", "0,0,-1"],
+            vec!["specs: is a directory, expected a spec file (.json)"],
+        ),
+        c(
+            "a binary solid's --spec",
+            vec![("spec.json", vec![0xff, 0xfe, 0, 1])],
+            vec!["intersect", "csg", "--spec", "spec.json", "--origin", "0,0,5", "--dir", "0,0,-1"],
+            vec!["spec.json", "invalid UTF-8", "expected a JSON spec"],
+        ),
+        c(
             "a misspelt key in a course .ini",
             vec![
                 ("scene.json", obj(SPHERE)),
