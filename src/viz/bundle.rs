@@ -131,7 +131,7 @@ pub fn draw(scene: &Scene, x: u32, y: u32) -> Result<Canvas, String> {
     c.text(
         (SIDE_MARGIN, 44.0),
         &format!(
-            "object-space x (right) and z (down); the rays come from the camera (bottom); {hit_count} of {n} rays hit (dots)"
+            "object-space x (right) and z (down); the rays come from the camera (bottom); {hit_count} of {n} rays hit (red dots)"
         ),
         12.0,
         style::ink(),
@@ -175,7 +175,7 @@ pub fn draw(scene: &Scene, x: u32, y: u32) -> Result<Canvas, String> {
     c.text(
         (SIDE_MARGIN, H - 14.0),
         &format!(
-            "The whole walk, every level: the bundle opened {} nodes, each once for all its rays; its rays' own slab tests (one ray against one node's four boxes): {}.",
+            "The whole walk: the bundle opened {} nodes, each once for all its rays; its rays made {} slab tests (a ray against a node's four boxes), in it or alone.",
             work.opened,
             work.ray_nodes.iter().sum::<u32>()
         ),
@@ -271,9 +271,12 @@ impl Panel {
         }
     }
 
-    /// The rays, from where they enter the panel to their hit (a dot) or across it.
+    /// The rays, from where they enter the panel to their hit (a dot) or across it. The dots
+    /// go on after every line, in the figures' hit colour with a white rim, so that no ray's
+    /// line hides another ray's hit.
     fn rays(&self, c: &mut Canvas, rays: &[Ray], hits: &[Option<LocalHit>], towards: DVec3) {
         let color = style::ray(crate::trace::RayKind::Camera);
+        let mut dots = Vec::new();
         for (r, hit) in rays.iter().zip(hits) {
             let far = r.origin.distance(towards) + 4.0 * self.half.max_element();
             let (mut t_start, mut t_stop) = (0.0f64, f64::INFINITY);
@@ -297,8 +300,11 @@ impl Panel {
                 false,
             );
             if let Some(h) = hit.filter(|h| h.t <= t_stop) {
-                c.circle(self.map(r.at(h.t)), 3.0, Some((color, 1.0)), Some(color));
+                dots.push(self.map(r.at(h.t)));
             }
+        }
+        for at in dots {
+            c.circle(at, 3.5, Some((style::background(), 1.2)), Some(style::hit()));
         }
     }
 }
