@@ -304,7 +304,12 @@ impl Panel {
             }
         }
         for at in dots {
-            c.circle(at, 3.5, Some((style::background(), 1.2)), Some(style::hit()));
+            c.circle(
+                at,
+                3.5,
+                Some((style::background(), 1.2)),
+                Some(style::hit()),
+            );
         }
     }
 }

@@ -12,6 +12,7 @@
 //! to the linear loop's.
 
 mod build;
+mod collapse;
 mod slab;
 #[cfg(test)]
 mod tests;
