@@ -9,7 +9,10 @@ mod lanes;
 mod objects;
 pub mod pages;
 
-pub use bundle::{Bits, BundleAnyLeaf, BundleLeaf, BundleWork, RayBundle, BUNDLE, FEW};
+pub use bundle::{
+    bundle_working, Bits, BundleAnyLeaf, BundleLeaf, BundleWork, BundleWorking, RayBundle,
+    RayVerdict, BUNDLE, FEW,
+};
 pub use bvh::{Bvh, Node, WIDTH};
 pub use lanes::{count, F32s, F64s, LANES};
 

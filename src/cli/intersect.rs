@@ -81,6 +81,14 @@ pub struct Args {
     /// Also draw the figure to this PNG.
     #[arg(short = 'o', long = "output", value_name = "FIG.png")]
     pub output: Option<PathBuf>,
+    /// box: test a bundle of rays against it as a BVH node's box (the bundle walk's interval
+    /// and lane tests, book chapter 13): rays from --origin, their directions spread evenly
+    /// from --dir to this one.
+    #[arg(long, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub bundle_to: Option<String>,
+    /// With --bundle-to: how many rays, 2 to 16 [16].
+    #[arg(long)]
+    pub rays: Option<String>,
 }
 
 pub const SHAPES: [&str; 7] = [
@@ -237,17 +245,7 @@ pub fn shape_and_ray(args: &Args) -> Result<(&'static str, Shape, Ray)> {
             })
         }
         "box" => {
-            only(args, &["--min", "--max"])?;
-            let (min, max) = (
-                vec3("--min", &args.min, DVec3::splat(-1.0))?,
-                vec3("--max", &args.max, DVec3::ONE)?,
-            );
-            if !min.cmplt(max).all() {
-                return Err(Error::arg(
-                    "--min/--max",
-                    "every coordinate of --min must be below that of --max",
-                ));
-            }
+            let (min, max) = box_corners(args)?;
             Shape::Box(Cuboid { min, max })
         }
         _ => {
@@ -269,6 +267,22 @@ pub fn shape_and_ray(args: &Args) -> Result<(&'static str, Shape, Ray)> {
         }
     };
     Ok((name, shape, Ray::new(origin, dir)))
+}
+
+/// The box's corners (`--min`, `--max`), checked; no other shape's options.
+pub fn box_corners(args: &Args) -> Result<(DVec3, DVec3)> {
+    only(args, &["--min", "--max"])?;
+    let (min, max) = (
+        vec3("--min", &args.min, DVec3::splat(-1.0))?,
+        vec3("--max", &args.max, DVec3::ONE)?,
+    );
+    if !min.cmplt(max).all() {
+        return Err(Error::arg(
+            "--min/--max",
+            "every coordinate of --min must be below that of --max",
+        ));
+    }
+    Ok((min, max))
 }
 
 /// A number that may be tiny: scientific notation below 1e-4, else the short form.
@@ -527,6 +541,15 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
     }
     if let Some(o) = &args.output {
         crate::output::check_writable(o, "-o")?;
+    }
+    if let Some(to) = &args.bundle_to {
+        return super::intersect_bundle::run(&args, to, out);
+    }
+    if args.rays.is_some() {
+        return Err(Error::arg(
+            "--rays",
+            "--rays counts the rays of a bundle: it goes with --bundle-to",
+        ));
     }
     if args.shape == "csg" || args.shape == "blob" {
         // Solids built from other solids: intervals along the ray, or a field's profile.

@@ -9,6 +9,7 @@ pub mod diff;
 pub mod forward;
 pub mod heatmap;
 pub mod intersect;
+pub mod interval;
 pub mod labels;
 pub mod samples;
 mod section;

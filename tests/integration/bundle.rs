@@ -424,3 +424,127 @@ fn bundles_find_each_rays_own_face_on_corners_and_edges() {
     }
     assert!(compared[1] > 2000, "{compared:?}");
 }
+
+/// The exact verdict of ray P + t·d (t ≥ 0) on a box, in f64: the oracle the bundle's f32
+/// tests must never contradict by culling.
+fn exact_enters(r: &rtlab::math::Ray, min: glam::DVec3, max: glam::DVec3) -> bool {
+    let (mut near, mut far) = (0.0f64, f64::INFINITY);
+    for k in 0..3 {
+        let (o, d) = (r.origin[k], r.dir[k]);
+        if d == 0.0 {
+            if o < min[k] || o > max[k] {
+                return false;
+            }
+            continue;
+        }
+        let (a, b) = ((min[k] - o) / d, (max[k] - o) / d);
+        near = near.max(a.min(b));
+        far = far.min(a.max(b));
+    }
+    near <= far
+}
+
+/// `bundle_working` (what `rtlab intersect box --bundle-to` shows) on random bundles, from
+/// one point and from several, against random boxes: every lane says what its ray's own
+/// slab test says, an interval-test cull happens only when no ray's own test enters, and
+/// a ray the exact f64 test finds entering is never culled by either.
+#[test]
+fn the_interval_test_culls_only_boxes_every_ray_misses() {
+    use glam::DVec3;
+    use rtlab::accel::bundle_working;
+    use rtlab::math::{Ray, Rng};
+    let mut rng = Rng::new(&[21, 5]);
+    let mut u = |lo: f64, hi: f64| lo + (hi - lo) * rng.next_f64();
+    let (mut culled, mut kept, mut alone) = (0, 0, 0);
+    for round in 0..4000 {
+        let centre = DVec3::new(u(-3.0, 3.0), u(-3.0, 3.0), u(2.0, 8.0));
+        let half = DVec3::new(u(0.05, 1.5), u(0.05, 1.5), u(0.05, 1.5));
+        let (min, max) = (centre - half, centre + half);
+        let n = 2 + (u(0.0, 15.0) as usize);
+        let shared = round % 2 == 0;
+        let spread = u(0.01, 0.6);
+        let aim = DVec3::new(u(-0.5, 0.5), u(-0.5, 0.5), 1.0);
+        let rays: Vec<Ray> = (0..n)
+            .map(|_| {
+                let origin = if shared {
+                    DVec3::ZERO
+                } else {
+                    DVec3::new(u(-0.2, 0.2), u(-0.2, 0.2), u(-0.2, 0.2))
+                };
+                let d = aim + DVec3::new(u(-spread, spread), u(-spread, spread), 0.0);
+                Ray::new(origin, d)
+            })
+            .collect();
+        let w = bundle_working(&rays, &rtlab::shapes::Aabb::new(min, max));
+        for (i, (r, v)) in rays.iter().zip(&w.rays).enumerate() {
+            if exact_enters(r, min, max) {
+                assert!(
+                    v.own,
+                    "round {round}, ray {i}: its own slab test culls a box it enters"
+                );
+            }
+            if let Some(lane) = v.lane {
+                assert_eq!(
+                    lane, v.own,
+                    "round {round}, ray {i}: the lane and its ray disagree"
+                );
+            }
+        }
+        match w.kept {
+            Some(false) => {
+                culled += 1;
+                assert!(
+                    w.rays.iter().all(|v| !v.own),
+                    "round {round}: culled a box some ray enters"
+                );
+            }
+            Some(true) => kept += 1,
+            None => alone += 1,
+        }
+    }
+    // The rounds exercise every verdict, culls above all.
+    assert!(
+        culled > 500 && kept > 200 && alone > 50,
+        "{culled} {kept} {alone}"
+    );
+}
+
+/// `rtlab intersect box --bundle-to`: the book's two examples, as JSON.
+#[test]
+fn intersect_box_bundle_to_reports_the_verdicts() {
+    let json = |args: &[&str]| -> serde_json::Value {
+        let mut all = vec!["intersect", "box", "--format", "json", "--origin", "0,0,-5"];
+        all.extend_from_slice(args);
+        let o = rtlab(&all);
+        assert!(o.status.success(), "{}", stderr(&o));
+        serde_json::from_slice(&o.stdout).expect("JSON")
+    };
+    let lanes = |j: &serde_json::Value| -> Vec<Option<bool>> {
+        j["rays"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|r| r["lane_test"].as_bool())
+            .collect()
+    };
+    let culled = json(&[
+        "--dir",
+        "0.3,0.05,1",
+        "--bundle-to",
+        "0.6,0.05,1",
+        "--rays",
+        "6",
+    ]);
+    assert_eq!(culled["interval_test"]["kept"], false);
+    assert_eq!(lanes(&culled), vec![Some(false); 6]);
+    let z = &culled["interval_test"]["axes"][2];
+    assert!((z["entry"].as_f64().unwrap() - 4.0).abs() < 1e-5, "{z}");
+    let kept = json(&["--dir", "0.1,0.05,1", "--bundle-to", "0.4,0.05,1"]);
+    assert_eq!(kept["interval_test"]["kept"], true);
+    let entering = lanes(&kept).iter().filter(|l| **l == Some(true)).count();
+    assert_eq!(entering, 8);
+    let mixed = json(&["--dir", "-0.3,0.05,1", "--bundle-to", "0.1,0.05,1"]);
+    assert_eq!(mixed["sign_coherent"], false);
+    assert!(mixed["interval_test"]["kept"].is_null());
+    assert_eq!(lanes(&mixed), vec![None; 16]);
+}

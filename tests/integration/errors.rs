@@ -550,6 +550,30 @@ fn cases() -> Vec<Case> {
             vec!["spec.json: line 1:", "key \"threshold\" appears twice in one object"],
         ),
         c(
+            "a bundle of rays against a sphere",
+            vec![],
+            vec!["intersect", "sphere", "--origin", "0,0,-5", "--dir", "0,0,1", "--bundle-to", "0.1,0,1"],
+            vec!["--bundle-to", "only box takes a bundle of rays"],
+        ),
+        c(
+            "a bundle of 17 rays",
+            vec![],
+            vec!["intersect", "box", "--origin", "0,0,-5", "--dir", "0,0,1", "--bundle-to", "0.1,0,1", "--rays", "17"],
+            vec!["--rays", "a bundle holds 2 to 16 rays, not 17"],
+        ),
+        c(
+            "--rays without a bundle",
+            vec![],
+            vec!["intersect", "box", "--origin", "0,0,-5", "--dir", "0,0,1", "--rays", "4"],
+            vec!["--rays", "it goes with --bundle-to"],
+        ),
+        c(
+            "a bundle whose directions pass through zero",
+            vec![],
+            vec!["intersect", "box", "--origin", "0,0,-5", "--dir", "0,0,1", "--bundle-to", "0,0,-1", "--rays", "3"],
+            vec!["--bundle-to", "a direction between --dir and --bundle-to is zero"],
+        ),
+        c(
             "a solid's --spec that is a folder",
             vec![("specs/x", vec![])],
             vec!["intersect", "blob", "--spec", "specs", "--origin", "0,0,5", "--dir", "0,0,-1"],

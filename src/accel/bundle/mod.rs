@@ -221,8 +221,10 @@ impl<'r> RayBundle<'r> {
     /// difference with 1/d is smallest at one end of the range of 1/d; rounding to nearest
     /// is monotonic, so the same `f32` operations on these bounds give a t no later than the
     /// one each ray's own test computes, and never cull a box a ray's own test keeps.
+    /// (`seen` hears each axis's entry and exit bounds, for `rtlab intersect box
+    /// --bundle-to`; the walk passes a closure that does nothing and compiles to nothing.)
     #[inline(always)]
-    fn interval_enter(&self, nd: &Node, t_min: f32) -> u32 {
+    fn interval_enter(&self, nd: &Node, t_min: f32, mut seen: impl FnMut(usize, FW, FW)) -> u32 {
         let mut near = FW::splat(t_min);
         let mut far = FW::splat(f32::INFINITY);
         for k in 0..3 {
@@ -231,8 +233,10 @@ impl<'r> RayBundle<'r> {
             let a = FW::load(&nd.planes[e][k]) - FW::splat(iv.origin_in);
             let b = FW::load(&nd.planes[x][k]) - FW::splat(iv.origin_out);
             let (lo, hi) = (FW::splat(iv.inv_lo), FW::splat(iv.inv_hi));
-            near = (a * lo).min_or(a * hi).max_or(near);
-            far = (b * lo).max_or(b * hi).min_or(far);
+            let (enter, exit) = ((a * lo).min_or(a * hi), (b * lo).max_or(b * hi));
+            seen(k, enter, exit);
+            near = enter.max_or(near);
+            far = exit.min_or(far);
         }
         let near = near * FW::splat(SHRINK);
         near.le_mask(far * FW::splat(GROW))
@@ -326,6 +330,9 @@ pub trait BundleAnyLeaf {
 }
 
 mod walk;
+mod working;
+
+pub use working::{bundle_working, BundleWorking, RayVerdict};
 
 /// The set bits of a mask, lowest first.
 #[derive(Clone, Copy)]

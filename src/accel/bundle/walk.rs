@@ -83,7 +83,7 @@ impl Bvh {
             work.opened += 1;
             count(&mut work.ray_nodes, mask);
             let nd = &self.nodes[node];
-            let lanes = b.interval_enter(nd, t_min32);
+            let lanes = b.interval_enter(nd, t_min32, |_, _, _| {});
             // The children some ray enters, nearest last, to be pushed in that order.
             let mut order = [(0.0f32, 0usize, 0u32); WIDTH];
             let mut n = 0;
@@ -251,7 +251,7 @@ impl Bvh {
             } else {
                 work.opened += 1;
                 let nd = &self.nodes[child as usize];
-                let lanes = b.interval_enter(nd, t_min32);
+                let lanes = b.interval_enter(nd, t_min32, |_, _, _| {});
                 for lane in 0..WIDTH {
                     if lanes >> lane & 1 == 1 {
                         let t_max = w.load(&t_max32);

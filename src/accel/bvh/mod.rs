@@ -57,7 +57,7 @@ pub struct Node {
 const _: () = assert!(std::mem::size_of::<Node>() == 32 * WIDTH);
 
 impl Node {
-    const EMPTY: Node = Node {
+    pub(in crate::accel) const EMPTY: Node = Node {
         planes: [[[f32::INFINITY; WIDTH]; 3], [[f32::NEG_INFINITY; WIDTH]; 3]],
         child: [0; WIDTH],
         count: [0; WIDTH],

@@ -1,0 +1,290 @@
+//! `rtlab intersect box --bundle-to X,Y,Z`: a bundle of rays against one box as a BVH node
+//! holds it, through the bundle walk's own two tests (chapter 13, "Beam tracing"): the
+//! interval test, which bounds every ray at once, and the lane test, each ray's own slab
+//! test. The numbers come from [`crate::accel::bundle_working`]; nothing here tests anything.
+//!
+//! `--format json` (an addition to DESIGN §3's `intersect` output, only with `--bundle-to`):
+//! `{"shape": "box", "box": {"min", "max"}, "rays": [{"origin", "direction", "lane_test",
+//! "own_test", "t_enter"}], "sign_coherent", "shared_origin", "interval_test": {"axes":
+//! [null | {"entry", "exit"}] (x, y, z), "kept": null | bool}}`. Numbers are the `f32`
+//! values the walk computes; `t_enter` is null for a ray that misses; `lane_test` and
+//! `kept` are null when the bundle is not sign-coherent (no bundle test is made).
+
+use super::intersect::Args;
+use super::{emit, parse_list, parse_vec3};
+use crate::accel::{bundle_working, BundleWorking, BUNDLE};
+use crate::error::{Error, Result};
+use crate::math::Ray;
+use crate::shapes::working::short;
+use crate::shapes::Aabb;
+use glam::DVec3;
+use serde::Serialize;
+use std::fmt::Write as _;
+
+/// The bundle the arguments describe: `--rays` rays (16 unless given) from `--origin`, their
+/// directions spread evenly from `--dir` to `--bundle-to`, and the box.
+pub fn bundle_and_box(args: &Args, to: &str) -> Result<(Vec<Ray>, Aabb)> {
+    if args.shape != "box" {
+        return Err(Error::arg(
+            "--bundle-to",
+            format!(
+                "only box takes a bundle of rays (the box of a BVH node), not {}",
+                args.shape
+            ),
+        ));
+    }
+    if args.spec.is_some() {
+        return Err(Error::arg(
+            "--spec",
+            "only csg and blob take --spec, not box",
+        ));
+    }
+    let n = match &args.rays {
+        None => BUNDLE,
+        Some(s) => {
+            let x = parse_list("--rays", s, 1)?[0];
+            if x.fract() != 0.0 || !(2.0..=BUNDLE as f64).contains(&x) {
+                return Err(Error::arg(
+                    "--rays",
+                    format!("a bundle holds 2 to {BUNDLE} rays, not {s}"),
+                ));
+            }
+            x as usize
+        }
+    };
+    let origin = parse_vec3("--origin", &args.origin)?;
+    let (first, last) = (
+        parse_vec3("--dir", &args.dir)?,
+        parse_vec3("--bundle-to", to)?,
+    );
+    let (min, max) = super::intersect::box_corners(args)?;
+    let rays: Vec<Ray> = (0..n)
+        .map(|i| {
+            let s = i as f64 / (n - 1) as f64;
+            Ray::new(origin, first + (last - first) * s)
+        })
+        .collect();
+    if rays.iter().any(|r| r.dir == DVec3::ZERO) {
+        return Err(Error::arg(
+            "--bundle-to",
+            "a direction between --dir and --bundle-to is zero: they must not point opposite ways",
+        ));
+    }
+    Ok((rays, Aabb::new(min, max)))
+}
+
+#[derive(Serialize)]
+struct Json {
+    shape: &'static str,
+    #[serde(rename = "box")]
+    bounds: BoxJson,
+    rays: Vec<RayJson>,
+    sign_coherent: bool,
+    shared_origin: bool,
+    interval_test: IntervalJson,
+}
+
+#[derive(Serialize)]
+struct BoxJson {
+    min: [f32; 3],
+    max: [f32; 3],
+}
+
+#[derive(Serialize)]
+struct RayJson {
+    origin: [f64; 3],
+    direction: [f64; 3],
+    lane_test: Option<bool>,
+    own_test: bool,
+    t_enter: Option<f32>,
+}
+
+#[derive(Serialize)]
+struct AxisJson {
+    entry: f32,
+    exit: f32,
+}
+
+#[derive(Serialize)]
+struct IntervalJson {
+    axes: [Option<AxisJson>; 3],
+    kept: Option<bool>,
+}
+
+fn json(rays: &[Ray], w: &BundleWorking) -> String {
+    let j = Json {
+        shape: "box",
+        bounds: BoxJson {
+            min: w.min,
+            max: w.max,
+        },
+        rays: rays
+            .iter()
+            .zip(&w.rays)
+            .map(|(r, v)| RayJson {
+                origin: r.origin.to_array(),
+                direction: r.dir.to_array(),
+                lane_test: v.lane,
+                own_test: v.own,
+                t_enter: v.own.then_some(v.t_enter),
+            })
+            .collect(),
+        sign_coherent: w.coherent,
+        shared_origin: w.shared_origin,
+        interval_test: IntervalJson {
+            axes: w
+                .axes
+                .map(|a| a.map(|(entry, exit)| AxisJson { entry, exit })),
+            kept: w.kept,
+        },
+    };
+    serde_json::to_string_pretty(&j).expect("serialisable") + "\n"
+}
+
+fn v3(v: DVec3) -> String {
+    format!("({}, {}, {})", short(v.x), short(v.y), short(v.z))
+}
+
+fn f3(v: [f32; 3]) -> String {
+    format!("({}, {}, {})", v[0], v[1], v[2])
+}
+
+/// The working as text: the bundle, the interval test axis by axis, then every ray's lane.
+pub fn text(rays: &[Ray], w: &BundleWorking) -> String {
+    let n = rays.len();
+    let mut s = String::new();
+    let (first, last) = (rays[0].dir, rays[n - 1].dir);
+    let _ = writeln!(s, "A bundle of {n} rays against one box of a BVH node");
+    let _ = writeln!(
+        s,
+        "  box (as the BVH stores it, its corners rounded outwards to f32): from {} to {}",
+        f3(w.min),
+        f3(w.max)
+    );
+    let _ = writeln!(
+        s,
+        "  rays: from P = {}, directions spread evenly from d = {} to {}",
+        v3(rays[0].origin),
+        v3(first),
+        v3(last)
+    );
+    let _ = writeln!(s);
+    let _ = writeln!(
+        s,
+        "1. The interval test: the whole bundle against the box at once"
+    );
+    let Some(kept) = w.kept else {
+        let _ = writeln!(
+            s,
+            "  the directions change sign along some axis: the bundle is not sign-coherent,\n  \
+             so there is no interval test; the walk sends each of these rays alone"
+        );
+        lanes(&mut s, rays, w, false);
+        return s;
+    };
+    let _ = writeln!(
+        s,
+        "  every direction has one sign per axis (sign-coherent); per axis, a t no later than\n  \
+         any ray's entry into the slab and one no earlier than any ray's exit:"
+    );
+    let (mut entry, mut exit) = (0.0f32, f32::INFINITY);
+    for (k, axis) in w.axes.iter().enumerate() {
+        let name = ["x", "y", "z"][k];
+        match axis {
+            Some((a, b)) => {
+                let _ = writeln!(s, "    {name}: entry ≥ {a}, exit ≤ {b}");
+                entry = entry.max(*a);
+                exit = exit.min(*b);
+            }
+            None => {
+                let _ = writeln!(
+                    s,
+                    "    {name}: no bound (a direction is 0 along {name}: the ray never leaves that slab)"
+                );
+            }
+        }
+    }
+    let _ = writeln!(
+        s,
+        "  together: no ray enters the box before t = {entry} (the latest entry bound), and\n  \
+         every ray has left it by t = {exit} (the earliest exit bound)"
+    );
+    if kept {
+        let _ = writeln!(
+            s,
+            "  → kept: the bounds leave room for a ray to enter (widened by a few units in the\n    \
+             last place for rounding); each ray now gets the lane test"
+        );
+    } else {
+        let _ = writeln!(
+            s,
+            "  → culled: even the bounds enter after they leave, so every ray misses: one test\n    \
+             skips the box, and everything under it, for all {n} rays"
+        );
+    }
+    lanes(&mut s, rays, w, !kept);
+    s
+}
+
+fn lanes(s: &mut String, rays: &[Ray], w: &BundleWorking, culled: bool) {
+    let _ = writeln!(s);
+    let together = w.kept.is_some();
+    if together {
+        let _ = writeln!(
+            s,
+            "2. The lane test: each ray's own slab test, all {} in one pass{}",
+            rays.len(),
+            if culled {
+                " (the walk skips it after a cull;\n   shown here to check the cull: no ray enters)"
+            } else {
+                ""
+            }
+        );
+    } else {
+        let _ = writeln!(s, "2. Each ray alone: its own slab test");
+    }
+    let _ = writeln!(s, "    ray  direction                 enters  entry t");
+    for (i, (r, v)) in rays.iter().zip(&w.rays).enumerate() {
+        let _ = writeln!(
+            s,
+            "    {i:>3}  {:<24}  {:<6}  {}",
+            v3(r.dir),
+            if v.lane.unwrap_or(v.own) { "yes" } else { "no" },
+            if v.own {
+                v.t_enter.to_string()
+            } else {
+                "-".into()
+            }
+        );
+    }
+    let entering = w.rays.iter().filter(|v| v.lane.unwrap_or(v.own)).count();
+    let _ = write!(s, "  {entering} of {} rays enter", rays.len());
+    if together {
+        let agree = w.rays.iter().all(|v| v.lane == Some(v.own));
+        let _ = write!(
+            s,
+            "; {}",
+            if agree {
+                "each lane says what that ray's own slab test says (the single-ray walk's)"
+            } else {
+                "A LANE DISAGREES with its ray's own slab test: a bug, please report it"
+            }
+        );
+    }
+    let _ = writeln!(s);
+}
+
+/// `rtlab intersect box --bundle-to ...`.
+pub fn run(args: &Args, to: &str, out: &mut dyn std::io::Write) -> Result<()> {
+    let (rays, bounds) = bundle_and_box(args, to)?;
+    let w = bundle_working(&rays, &bounds);
+    if let Some(o) = &args.output {
+        crate::viz::interval::figure(&rays, &w).write_png(o)?;
+    }
+    let s = if args.format == "json" {
+        json(&rays, &w)
+    } else {
+        text(&rays, &w)
+    };
+    emit(out, &s)
+}
