@@ -6,19 +6,25 @@
 //! `--format json` (an addition to DESIGN §3's `intersect` output, only with `--bundle-to`):
 //! `{"shape": "box", "box": {"min", "max"}, "rays": [{"origin", "direction", "lane_test",
 //! "own_test", "t_enter"}], "sign_coherent", "shared_origin", "interval_test": {"axes":
-//! [null | {"entry", "exit"}] (x, y, z), "kept": null | bool}}`. Numbers are the `f32`
-//! values the walk computes; `t_enter` is null for a ray that misses; `lane_test` and
-//! `kept` are null when the bundle is not sign-coherent (no bundle test is made).
+//! [null | {"entry", "exit"}] (x, y, z), "together": null | {"entry", "exit"}, "kept": null
+//! | bool}}`. The bounds and `t_enter` are the `f32`
+//! values the walk computes (the origins and directions are the f64 rays, as given);
+//! `t_enter` is null for a ray that misses; `lane_test`, `together` and `kept` are null
+//! when the bundle is not sign-coherent (no bundle test is made).
 
-use super::intersect::Args;
+use super::intersect_args::{box_corners, Args};
 use super::{emit, parse_list, parse_vec3};
 use crate::accel::{bundle_working, BundleWorking, BUNDLE};
 use crate::error::{Error, Result};
 use crate::math::Ray;
+use crate::scene::json::MAX_MAGNITUDE;
 use crate::shapes::working::short;
 use crate::shapes::Aabb;
 use glam::DVec3;
 use serde::Serialize;
+
+/// The shortest direction a bundle's ray may have: shorter ones make 1/d overflow in f32.
+const MIN_LENGTH: f64 = 1e-12;
 use std::fmt::Write as _;
 
 /// The bundle the arguments describe: `--rays` rays (16 unless given) from `--origin`, their
@@ -52,19 +58,44 @@ pub fn bundle_and_box(args: &Args, to: &str) -> Result<(Vec<Ray>, Aabb)> {
             x as usize
         }
     };
-    let origin = parse_vec3("--origin", &args.origin)?;
+    // The walk's tests run in f32: numbers as large as a scene may hold (its loader's
+    // limit), and directions long enough that 1/d is a number.
+    let within = |arg: &str, v: DVec3| -> Result<DVec3> {
+        if let Some(x) = v.to_array().into_iter().find(|x| x.abs() > MAX_MAGNITUDE) {
+            return Err(Error::arg(
+                arg,
+                format!(
+                    "{x:e} is out of range: coordinates up to {MAX_MAGNITUDE:e}, as in a scene"
+                ),
+            ));
+        }
+        Ok(v)
+    };
+    let origin = within("--origin", parse_vec3("--origin", &args.origin)?)?;
+    let direction = |arg: &str, s: &str| -> Result<DVec3> {
+        let d = within(arg, parse_vec3(arg, s)?)?;
+        if d.length() < MIN_LENGTH {
+            return Err(Error::arg(
+                arg,
+                format!("the direction must not be zero (or shorter than {MIN_LENGTH:e})"),
+            ));
+        }
+        Ok(d)
+    };
     let (first, last) = (
-        parse_vec3("--dir", &args.dir)?,
-        parse_vec3("--bundle-to", to)?,
+        direction("--dir", &args.dir)?,
+        direction("--bundle-to", to)?,
     );
-    let (min, max) = super::intersect::box_corners(args)?;
+    let (min, max) = box_corners(args)?;
+    within("--min", min)?;
+    within("--max", max)?;
     let rays: Vec<Ray> = (0..n)
         .map(|i| {
             let s = i as f64 / (n - 1) as f64;
             Ray::new(origin, first + (last - first) * s)
         })
         .collect();
-    if rays.iter().any(|r| r.dir == DVec3::ZERO) {
+    if rays.iter().any(|r| r.dir.length() < MIN_LENGTH) {
         return Err(Error::arg(
             "--bundle-to",
             "a direction between --dir and --bundle-to is zero: they must not point opposite ways",
@@ -108,6 +139,7 @@ struct AxisJson {
 #[derive(Serialize)]
 struct IntervalJson {
     axes: [Option<AxisJson>; 3],
+    together: Option<AxisJson>,
     kept: Option<bool>,
 }
 
@@ -135,6 +167,7 @@ fn json(rays: &[Ray], w: &BundleWorking) -> String {
             axes: w
                 .axes
                 .map(|a| a.map(|(entry, exit)| AxisJson { entry, exit })),
+            together: w.together.map(|(entry, exit)| AxisJson { entry, exit }),
             kept: w.kept,
         },
     };
@@ -187,33 +220,31 @@ pub fn text(rays: &[Ray], w: &BundleWorking) -> String {
         "  every direction has one sign per axis (sign-coherent); per axis, a t no later than\n  \
          any ray's entry into the slab and one no earlier than any ray's exit:"
     );
-    let (mut entry, mut exit) = (0.0f32, f32::INFINITY);
     for (k, axis) in w.axes.iter().enumerate() {
         let name = ["x", "y", "z"][k];
         match axis {
             Some((a, b)) => {
                 let _ = writeln!(s, "    {name}: entry ≥ {a}, exit ≤ {b}");
-                entry = entry.max(*a);
-                exit = exit.min(*b);
             }
             None => {
                 let _ = writeln!(
                     s,
-                    "    {name}: no bound (a direction is 0 along {name}: the ray never leaves that slab)"
+                    "    {name}: no bound (some ray's 1/d along {name} is ±∞: its direction there is 0)"
                 );
             }
         }
     }
+    let (entry, exit) = w.together.unwrap_or((0.0, f32::INFINITY));
     let _ = writeln!(
         s,
-        "  together: no ray enters the box before t = {entry} (the latest entry bound), and\n  \
-         every ray has left it by t = {exit} (the earliest exit bound)"
+        "  together (the latest entry bound, from t = 0, and the earliest exit bound, each\n  \
+         widened by a few units in the last place for rounding): no ray enters the box\n  \
+         before t = {entry}, and every ray has left it by t = {exit}"
     );
     if kept {
         let _ = writeln!(
             s,
-            "  → kept: the bounds leave room for a ray to enter (widened by a few units in the\n    \
-             last place for rounding); each ray now gets the lane test"
+            "  → kept: the bounds leave room for a ray to enter; each ray now gets the lane test"
         );
     } else {
         let _ = writeln!(
@@ -235,7 +266,7 @@ fn lanes(s: &mut String, rays: &[Ray], w: &BundleWorking, culled: bool) {
             "2. The lane test: each ray's own slab test, all {} in one pass{}",
             rays.len(),
             if culled {
-                " (the walk skips it after a cull;\n   shown here to check the cull: no ray enters)"
+                " (the walk skips it after a cull;\n   shown here to check it)"
             } else {
                 ""
             }

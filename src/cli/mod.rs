@@ -7,6 +7,7 @@ pub mod diff;
 pub mod explain;
 pub mod explain_text;
 pub mod intersect;
+mod intersect_args;
 pub mod intersect_bundle;
 pub mod intersect_solids;
 pub mod lessons;

@@ -46,7 +46,7 @@ pub fn figure(rays: &[Ray], w: &BundleWorking) -> Canvas {
         style::muted(),
         Anchor::Left,
     );
-    let bounds = together(w);
+    let bounds = w.together;
     let split = (W - GAP) / 2.0;
     space(&mut c, rays, w, bounds, (MARGIN, TOP, split, H - BOTTOM));
     times(
@@ -63,16 +63,6 @@ pub fn figure(rays: &[Ray], w: &BundleWorking) -> Canvas {
         Anchor::Left,
     );
     c
-}
-
-/// The bundle's entry and exit bounds over the three axes (the latest entry, the earliest
-/// exit), when there was an interval test.
-fn together(w: &BundleWorking) -> Option<(f32, f32)> {
-    w.kept?;
-    let axes = w.axes.iter().flatten();
-    let entry = axes.clone().fold(0.0f32, |m, a| m.max(a.0));
-    let exit = axes.fold(f32::INFINITY, |m, a| m.min(a.1));
-    Some((entry, exit))
 }
 
 /// (z, x) of a 3D point: the view along y.
@@ -286,7 +276,7 @@ fn times(
             None => c.text(
                 (t0, y),
                 if w.kept.is_some() {
-                    "no bound (a direction is 0 or ±∞ along it)"
+                    "no bound (some ray's 1/d is ±∞ along it)"
                 } else {
                     "no interval test (not sign-coherent)"
                 },
@@ -304,9 +294,9 @@ fn times(
         style::ink(),
         Anchor::Left,
     );
-    match bounds {
-        Some((a, b)) if a <= b => bar(c, y, a, b),
-        Some((a, b)) => {
+    match (bounds, w.kept) {
+        (Some((a, b)), Some(true)) => bar(c, y, a, b),
+        (Some((a, b)), _) => {
             c.line((at(b), y), (at(a), y), style::hit(), 2.0, false);
             c.text(
                 ((at(a) + at(b)) / 2.0, y - 14.0),
@@ -330,7 +320,7 @@ fn times(
                 Anchor::Left,
             );
         }
-        None => c.text(
+        (None, _) => c.text(
             (t0, y),
             "no interval test",
             11.0,

@@ -568,6 +568,12 @@ fn cases() -> Vec<Case> {
             vec!["--rays", "it goes with --bundle-to"],
         ),
         c(
+            "a bundle from beyond a scene's range",
+            vec![],
+            vec!["intersect", "box", "--origin", "0,0,-1e13", "--dir", "0,0,1", "--bundle-to", "0.1,0,1"],
+            vec!["--origin", "is out of range: coordinates up to 1e12"],
+        ),
+        c(
             "a bundle whose directions pass through zero",
             vec![],
             vec!["intersect", "box", "--origin", "0,0,-5", "--dir", "0,0,1", "--bundle-to", "0,0,-1", "--rays", "3"],

@@ -221,10 +221,16 @@ impl<'r> RayBundle<'r> {
     /// difference with 1/d is smallest at one end of the range of 1/d; rounding to nearest
     /// is monotonic, so the same `f32` operations on these bounds give a t no later than the
     /// one each ray's own test computes, and never cull a box a ray's own test keeps.
-    /// (`seen` hears each axis's entry and exit bounds, for `rtlab intersect box
-    /// --bundle-to`; the walk passes a closure that does nothing and compiles to nothing.)
+    /// (`seen` hears each axis's entry and exit bounds, `Some(axis)`, then the bundle's,
+    /// `None`, widened as the verdict compares them: for `rtlab intersect box --bundle-to`.
+    /// The walk passes a closure that does nothing and compiles to nothing.)
     #[inline(always)]
-    fn interval_enter(&self, nd: &Node, t_min: f32, mut seen: impl FnMut(usize, FW, FW)) -> u32 {
+    fn interval_enter(
+        &self,
+        nd: &Node,
+        t_min: f32,
+        mut seen: impl FnMut(Option<usize>, FW, FW),
+    ) -> u32 {
         let mut near = FW::splat(t_min);
         let mut far = FW::splat(f32::INFINITY);
         for k in 0..3 {
@@ -234,12 +240,13 @@ impl<'r> RayBundle<'r> {
             let b = FW::load(&nd.planes[x][k]) - FW::splat(iv.origin_out);
             let (lo, hi) = (FW::splat(iv.inv_lo), FW::splat(iv.inv_hi));
             let (enter, exit) = ((a * lo).min_or(a * hi), (b * lo).max_or(b * hi));
-            seen(k, enter, exit);
+            seen(Some(k), enter, exit);
             near = enter.max_or(near);
             far = exit.min_or(far);
         }
-        let near = near * FW::splat(SHRINK);
-        near.le_mask(far * FW::splat(GROW))
+        let (near, far) = (near * FW::splat(SHRINK), far * FW::splat(GROW));
+        seen(None, near, far);
+        near.le_mask(far)
     }
     // ANCHOR_END: interval_test
 

@@ -33,9 +33,14 @@ pub struct BundleWorking {
     /// Every ray starts at the same point.
     pub shared_origin: bool,
     /// Per axis, the bundle's bounds: a t no later than any ray's entry into that slab and
-    /// one no earlier than any ray's exit. `None`: the axis bounds nothing (a direction of
-    /// 0 or ±∞ along it, or the bundle is not sign-coherent and no interval test is made).
+    /// one no earlier than any ray's exit. `None`: the axis bounds nothing (some ray's 1/d
+    /// along it is ±∞: a direction of 0 there, or below about 3·10⁻³⁹ in f32), or the
+    /// bundle is not sign-coherent and no interval test is made.
     pub axes: [Option<(f32, f32)>; 3],
+    /// The bundle's bounds over the three axes, widened for rounding, as the verdict
+    /// compares them: the latest entry (no earlier than t = 0) and the earliest exit.
+    /// `None` when no interval test is made.
+    pub together: Option<(f32, f32)>,
     /// The interval test's verdict: some ray may enter (false: culled for every ray).
     /// `None` when the bundle is not sign-coherent: the walk then sends each ray alone.
     pub kept: Option<bool>,
@@ -64,9 +69,10 @@ impl Kernel for Working<'_> {
     fn run<W: Wide>(self, w: W) -> BundleWorking {
         let (node, t_min) = (&self.node, 0.0f32);
         let b = RayBundle::new(w, self.rays);
-        let mut axes = [None; 3];
-        let kept = b.interval_enter(node, t_min, |k, enter, exit| {
-            axes[k] = Some((enter.0[0], exit.0[0]))
+        let (mut axes, mut together) = ([None; 3], (0.0, 0.0));
+        let kept = b.interval_enter(node, t_min, |axis, enter, exit| match axis {
+            Some(k) => axes[k] = Some((enter.0[0], exit.0[0])),
+            None => together = (enter.0[0], exit.0[0]),
         }) & 1
             != 0;
         let far = w.load(&F32s::splat(f32::INFINITY));
@@ -91,6 +97,7 @@ impl Kernel for Working<'_> {
             coherent: b.coherent,
             shared_origin: b.shared_origin,
             axes,
+            together: b.coherent.then_some(together),
             kept: b.coherent.then_some(kept),
             rays,
         }

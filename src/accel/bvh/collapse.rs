@@ -1,7 +1,7 @@
 //! The binary tree the SAH builds ([`super::build`]), collapsed into the four-wide
 //! [`Node`]s rays walk, on all threads, with the same layout on any number of them.
 
-use super::build::BinNode;
+use super::binary::BinNode;
 use super::{Node, WIDTH};
 use crate::accel::pages::vec_on_huge_pages;
 use arrayvec::ArrayVec;

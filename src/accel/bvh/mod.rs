@@ -11,6 +11,7 @@
 //! decides *which* primitives get tested, never what t they report, so images are identical
 //! to the linear loop's.
 
+mod binary;
 mod build;
 mod collapse;
 mod slab;

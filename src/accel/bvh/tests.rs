@@ -1,6 +1,6 @@
 //! The hierarchy's invariants, the slab test's conservativeness and the walks against brute force.
 
-use super::build::FBox;
+use super::binary::FBox;
 use super::slab::*;
 use super::*;
 use crate::math::Rng;
