@@ -12,7 +12,7 @@
 //! Points of the circle have two coordinates. Full f64 precision.
 
 use crate::error::{Error, Result};
-use crate::shapes::working::short;
+use crate::shapes::working::{short, tiny};
 use crate::shapes::{Roots, Shape, TANGENT_TOLERANCE};
 use glam::DVec3;
 use std::fmt::Write as _;
@@ -25,14 +25,6 @@ pub use crate::report::intersect::{
     report, BarycentricJson, CandidateJson, HitJson, LinearJson, QuadraticJson, RayJson, Report,
 };
 
-/// A number that may be tiny: scientific notation below 1e-4, else the short form.
-pub fn tiny(x: f64) -> String {
-    if x != 0.0 && x.abs() < 1e-4 {
-        format!("{x:.1e}")
-    } else {
-        short(x)
-    }
-}
 
 fn pv(v: &[f64]) -> String {
     let parts: Vec<String> = v.iter().map(|x| short(*x)).collect();

@@ -276,3 +276,12 @@ pub fn short(x: f64) -> String {
         s
     }
 }
+
+/// A number that may be tiny: scientific notation below 1e-4, else the short form.
+pub fn tiny(x: f64) -> String {
+    if x != 0.0 && x.abs() < 1e-4 {
+        format!("{x:.1e}")
+    } else {
+        short(x)
+    }
+}
