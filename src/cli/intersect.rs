@@ -25,7 +25,6 @@ pub use crate::report::intersect::{
     report, BarycentricJson, CandidateJson, HitJson, LinearJson, QuadraticJson, RayJson, Report,
 };
 
-
 fn pv(v: &[f64]) -> String {
     let parts: Vec<String> = v.iter().map(|x| short(*x)).collect();
     format!("({})", parts.join(", "))

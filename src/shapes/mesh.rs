@@ -1,5 +1,8 @@
 use super::triangle::interpolated_hit;
-use super::{cramer_hit_prepared, Aabb, Barycentric, LocalHit, Observer, Prepared, Triangle};
+use super::{
+    cramer_hit_plane_first, cramer_hit_prepared, Aabb, Barycentric, LocalHit, Observer, Prepared,
+    Triangle,
+};
 use crate::accel::Bvh;
 use crate::math::Ray;
 use glam::{DVec2, DVec3};
@@ -227,7 +230,7 @@ impl Mesh {
         let mut hit = None;
         let found = self.bvh.any(ray, t_min, t_max, &mut visited, |k| {
             tested += 1;
-            hit = cramer_hit_prepared(&self.packed[k].prepared(), ray, t_min, t_max);
+            hit = cramer_hit_plane_first(&self.packed[k].prepared(), ray, t_min, t_max);
             hit.is_some()
         });
         obs.mesh(tested, found.map(|k| self.bvh.prims[k] as usize));

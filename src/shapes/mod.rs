@@ -31,8 +31,8 @@ pub use plane::Plane;
 pub use quadratic::{Quadratic, Roots, TANGENT_TOLERANCE};
 pub use sphere::Sphere;
 pub use triangle::{
-    cramer, cramer_hit, cramer_hit_prepared, cramer_prepared, Barycentric, FaceFrom, Numerators,
-    Prepared, Triangle,
+    cramer, cramer_hit, cramer_hit_plane_first, cramer_hit_prepared, cramer_prepared, Barycentric,
+    FaceFrom, Numerators, Prepared, Triangle,
 };
 pub use working::{Candidate, Working};
 

@@ -200,7 +200,8 @@ mod tests {
     /// The mesh test (signs first, no short-circuits) gives exactly what Cramer's rule plus
     /// the inside test give, on the inputs where the order of tests could matter: rays
     /// through corners and along edges (β or γ exactly 0, either sign of zero), rays in the
-    /// triangle's plane (det = 0), degenerate triangles, tiny and huge scales, and NaN.
+    /// triangle's plane (det = 0), degenerate triangles, tiny and huge scales, and NaN; and
+    /// the plane-first order of the same tests (shadow rays) gives every bit the same.
     #[test]
     fn mesh_test_agrees_with_cramer_on_edge_cases() {
         let mut rng = crate::math::Rng::new(&[6]);
@@ -239,6 +240,25 @@ mod tests {
                 expect.map(|b| b.t.to_bits()),
                 "case {i}"
             );
+            // The plane-first order (shadow rays) gives the same answer, bit for bit, for
+            // any range of t: the whole range, one that may end before the hit (t ≈ 1 here),
+            // and one that may start after it.
+            let ranges = [
+                (0.0, f64::INFINITY),
+                (0.0, r().abs() * 2.0),
+                (r().abs() * 1.5, 2.0 + r().abs()),
+            ];
+            for (lo, hi) in ranges {
+                let bits = |b: Option<Barycentric>| {
+                    b.map(|b| [b.alpha, b.beta, b.gamma, b.determinant, b.t].map(f64::to_bits))
+                };
+                let p = Prepared::new(&v);
+                assert_eq!(
+                    bits(cramer_hit_plane_first(&p, &ray, lo, hi)),
+                    bits(cramer_hit_prepared(&p, &ray, lo, hi)),
+                    "case {i}, t in [{lo}, {hi}]"
+                );
+            }
             checked[got.is_some() as usize] += 1;
         }
         assert!(checked[0] > 1000 && checked[1] > 1000, "{checked:?}");
@@ -260,6 +280,36 @@ pub fn cramer_hit(v: &[DVec3; 3], ray: &Ray, t_min: f64, t_max: f64) -> Option<B
 pub fn cramer_hit_prepared(p: &Prepared, ray: &Ray, t_min: f64, t_max: f64) -> Option<Barycentric> {
     let face = FaceFrom::new(p, ray.origin);
     let m = -ray.dir;
+    let nums = face.numerators(m);
+    if !nums.inside() {
+        return None;
+    }
+    face.solve(&nums, t_min, t_max)
+}
+
+/// [`cramer_hit_prepared`] with its tests in another order: the plane first (t within
+/// [t_min, t_max], from the normal and the determinant alone), and only then the two cross
+/// products and the inside test. Both tests must pass for a hit, and each is computed with
+/// the same operations either way, so the answer is the same, bit for bit; only the work
+/// differs. It pays for shadow rays, most of whose faces lie behind their origin or beyond
+/// the light (a shadow ray leaving a fine mesh's surface meets the planes of the faces
+/// around its start at t ≈ 0); a camera ray's first faces are tested against t_max = ∞,
+/// which rejects nothing, so closest hits keep the inside test first.
+#[inline(always)]
+pub fn cramer_hit_plane_first(
+    p: &Prepared,
+    ray: &Ray,
+    t_min: f64,
+    t_max: f64,
+) -> Option<Barycentric> {
+    let s = ray.origin - p.a;
+    let n = p.e1.cross(p.e2);
+    let m = -ray.dir;
+    let t = s.dot(n) / m.dot(n);
+    if !(t >= t_min && t <= t_max) {
+        return None;
+    }
+    let face = FaceFrom::with_normal(p, s, n);
     let nums = face.numerators(m);
     if !nums.inside() {
         return None;
@@ -296,10 +346,15 @@ pub struct Numerators {
 impl FaceFrom {
     #[inline(always)]
     pub fn new(p: &Prepared, origin: DVec3) -> FaceFrom {
-        let s = origin - p.a;
+        FaceFrom::with_normal(p, origin - p.a, p.e1.cross(p.e2))
+    }
+
+    /// [`FaceFrom::new`] given s = P − a and the normal e1 × e2 already computed.
+    #[inline(always)]
+    fn with_normal(p: &Prepared, s: DVec3, n: DVec3) -> FaceFrom {
         FaceFrom {
             s,
-            n: p.e1.cross(p.e2),
+            n,
             s_x_e2: s.cross(p.e2),
             e1_x_s: p.e1.cross(s),
         }

@@ -7,7 +7,9 @@ use super::{face_wins, Mesh};
 use crate::accel::isa::{self, Kernel, Wide};
 use crate::accel::{count, Bits, BundleAnyLeaf, BundleLeaf, BundleWork, F64s, RayBundle, BUNDLE};
 use crate::math::Ray;
-use crate::shapes::{cramer_hit_prepared, Barycentric, FaceFrom, LocalHit, Numerators};
+use crate::shapes::{
+    cramer_hit_plane_first, cramer_hit_prepared, Barycentric, FaceFrom, LocalHit, Numerators,
+};
 use glam::DVec3;
 
 impl Mesh {
@@ -99,8 +101,10 @@ struct Faces<'a, 'r, W> {
 impl<W: Wide> Faces<'_, '_, W> {
     /// Calls `hit(i, weights, t_max)` for each ray i in `rays` that hits face slot `k`
     /// within [t_min, t_max[i]]: exactly what [`cramer_hit_prepared`] says for that ray.
+    /// (`PLANE_FIRST`: rays from different points test each face's plane first,
+    /// [`cramer_hit_plane_first`], as shadow rays do; the same answers.)
     #[inline(always)]
-    fn hits(
+    fn hits<const PLANE_FIRST: bool>(
         &self,
         k: usize,
         rays: u32,
@@ -111,7 +115,13 @@ impl<W: Wide> Faces<'_, '_, W> {
         let b = self.b;
         if !b.shared_origin {
             for i in Bits(rays) {
-                if let Some(w) = cramer_hit_prepared(&p, &b.rays[i], self.t_min, t_max[i]) {
+                let (ray, t_min) = (&b.rays[i], self.t_min);
+                let found = if PLANE_FIRST {
+                    cramer_hit_plane_first(&p, ray, t_min, t_max[i])
+                } else {
+                    cramer_hit_prepared(&p, ray, t_min, t_max[i])
+                };
+                if let Some(w) = found {
                     hit(i, w, t_max);
                 }
             }
@@ -295,7 +305,7 @@ impl<W: Wide, S: FnMut(usize, usize, u32)> BundleLeaf for ClosestLeaf<'_, '_, W,
     fn test(&mut self, k: usize, rays: u32, t_max: &mut [f64; BUNDLE]) {
         count(self.tests, rays);
         let best = &mut self.best;
-        self.faces.hits(k, rays, t_max, |i, w, t_max| {
+        self.faces.hits::<false>(k, rays, t_max, |i, w, t_max| {
             keep_face(best, i, k, w, t_max)
         });
     }
@@ -333,7 +343,7 @@ impl<W: Wide> BundleAnyLeaf for AnyLeaf<'_, '_, W> {
     fn test(&mut self, k: usize, rays: u32) -> u32 {
         let mut blocked = 0;
         self.faces
-            .hits(k, rays, &mut self.t_max, |i, _, _| blocked |= 1 << i);
+            .hits::<true>(k, rays, &mut self.t_max, |i, _, _| blocked |= 1 << i);
         blocked
     }
 }
