@@ -3,17 +3,17 @@
 
 use super::explain::Explanation;
 use crate::scene::{Encoding, Scene};
-use crate::shapes::working::{short, BlobWorking, CsgWorking, SpanRecord};
+use crate::shapes::working::{short, vector, BlobWorking, CsgWorking, SpanRecord};
 use crate::shapes::Roots;
 use crate::trace::{End, RayKind, RayNode};
 use glam::{DVec2, DVec3};
 use std::fmt::Write;
 
 pub fn v3(v: DVec3) -> String {
-    format!("({}, {}, {})", short(v.x), short(v.y), short(v.z))
+    vector(&v.to_array(), short)
 }
 pub fn v2(v: DVec2) -> String {
-    format!("({}, {})", short(v.x), short(v.y))
+    vector(&v.to_array(), short)
 }
 fn color(v: DVec3) -> String {
     format!("({:.3}, {:.3}, {:.3})", v.x, v.y, v.z).replace("-0.000", "0.000")

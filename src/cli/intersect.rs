@@ -12,7 +12,7 @@
 //! Points of the circle have two coordinates. Full f64 precision.
 
 use crate::error::{Error, Result};
-use crate::shapes::working::{short, tiny};
+use crate::shapes::working::{short, tiny, vector};
 use crate::shapes::{Roots, Shape, TANGENT_TOLERANCE};
 use glam::DVec3;
 use std::fmt::Write as _;
@@ -26,8 +26,7 @@ pub use crate::report::intersect::{
 };
 
 fn pv(v: &[f64]) -> String {
-    let parts: Vec<String> = v.iter().map(|x| short(*x)).collect();
-    format!("({})", parts.join(", "))
+    vector(v, short)
 }
 
 /// A coefficient as the equation shows it: "+ 6" or "− 6".

@@ -18,7 +18,7 @@ use crate::accel::{bundle_working, BundleWorking, BUNDLE};
 use crate::error::{Error, Result};
 use crate::math::Ray;
 use crate::scene::json::MAX_MAGNITUDE;
-use crate::shapes::working::tiny;
+use crate::shapes::working::{tiny, vector};
 use crate::shapes::Aabb;
 use glam::DVec3;
 use serde::Serialize;
@@ -175,7 +175,7 @@ fn json(rays: &[Ray], w: &BundleWorking) -> String {
 }
 
 fn v3(v: DVec3) -> String {
-    format!("({}, {}, {})", tiny(v.x), tiny(v.y), tiny(v.z))
+    vector(&v.to_array(), tiny)
 }
 
 fn f3(v: [f32; 3]) -> String {

@@ -277,6 +277,13 @@ pub fn short(x: f64) -> String {
     }
 }
 
+/// A vector as the working prints it: "(x, y, z)", each coordinate written by `number`
+/// ([`short`] or [`tiny`]).
+pub fn vector(coords: &[f64], number: fn(f64) -> String) -> String {
+    let parts: Vec<String> = coords.iter().map(|&x| number(x)).collect();
+    format!("({})", parts.join(", "))
+}
+
 /// A number that may be tiny: scientific notation below 1e-4, else the short form.
 pub fn tiny(x: f64) -> String {
     if x != 0.0 && x.abs() < 1e-4 {
