@@ -37,6 +37,60 @@ pub fn check_writable(path: &Path, arg: &str) -> Result<()> {
     Ok(())
 }
 
+/// Refuses to write over one of the command's own inputs: `inputs` holds each input's path
+/// and what it is ("the scene", "your image"). The same file under another name counts
+/// (a link, `./`, a symlink): files are compared by identity, not by name.
+pub fn check_not_input(path: &Path, arg: &str, inputs: &[(&Path, &str)]) -> Result<()> {
+    let Some(out) = identity(path) else {
+        return Ok(()); // a file that does not exist yet is nobody's input
+    };
+    for (input, what) in inputs {
+        if identity(input) == Some(out) {
+            return Err(Error::arg(
+                arg,
+                format!(
+                    "{} is {what}: writing there would destroy it (choose another name)",
+                    path.display()
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// What makes a file the same file under any name.
+#[cfg(unix)]
+fn identity(path: &Path) -> Option<(u64, u64)> {
+    use std::os::unix::fs::MetadataExt;
+    std::fs::metadata(path).ok().map(|m| (m.dev(), m.ino()))
+}
+
+#[cfg(not(unix))]
+fn identity(path: &Path) -> Option<std::path::PathBuf> {
+    std::fs::canonicalize(path).ok()
+}
+
+/// Refuses output names without the extension of what is written (`ext`, lower case, and
+/// `what` it is, for the message), then checks that the name can be written.
+pub fn check_extension(path: &Path, arg: &str, ext: &str, what: &str) -> Result<()> {
+    match path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(|e| e.to_ascii_lowercase())
+    {
+        Some(e) if e == ext => check_writable(path, arg),
+        _ if path.is_dir() => check_writable(path, arg),
+        Some(e) => Err(Error::arg(
+            arg,
+            format!("cannot write .{e} {what}: use a .{ext} file name"),
+        )),
+        None => Err(Error::arg(
+            arg,
+            format!("{} has no extension: use a .{ext} file name", path.display()),
+        )),
+    }
+}
+
 fn parent(path: &Path) -> &Path {
     match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
@@ -112,19 +166,5 @@ pub fn png_bytes(img: &image::RgbImage) -> std::result::Result<Vec<u8>, String> 
 
 /// Refuses output names whose extension rtlab cannot write.
 pub fn check_png(path: &Path, arg: &str) -> Result<()> {
-    match path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(|e| e.to_ascii_lowercase())
-    {
-        Some(e) if e == "png" => check_writable(path, arg),
-        Some(e) => Err(Error::arg(
-            arg,
-            format!("cannot write .{e} images: use a .png file name"),
-        )),
-        None => Err(Error::arg(
-            arg,
-            format!("{} has no extension: use a .png file name", path.display()),
-        )),
-    }
+    check_extension(path, arg, "png", "images")
 }

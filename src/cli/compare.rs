@@ -11,7 +11,7 @@
 use super::render::with_threads;
 use super::{parse_list, RenderArgs};
 use crate::error::{Error, Result};
-use crate::output::check_png;
+use crate::output::{check_not_input, check_png};
 use crate::sampling::render;
 use crate::scene::{SamplerKind, Scene};
 use crate::viz::compare::{error_map, figure, rmse_psnr, worst_crop, Crop, Panel};
@@ -197,6 +197,7 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
     }
     if let Some(o) = &args.output {
         check_png(o, "-o")?;
+        check_not_input(o, "-o", &[(&args.scene, "the scene")])?;
     }
     let runs = plan_runs(&args.spp, &args.sampler)?;
     crate::sampling::validate_spp(SamplerKind::Jittered, args.reference_spp)

@@ -7,7 +7,7 @@
 //! Texture and mesh paths are written relative to the output's folder.
 
 use crate::error::{Error, Result};
-use crate::output::{check_writable, write_atomic};
+use crate::output::{check_extension, check_not_input, write_atomic};
 use crate::scene::cs1230::{self, Flat};
 use crate::scene::Encoding;
 use crate::shapes::Shape;
@@ -25,7 +25,8 @@ pub struct Args {
 }
 
 pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
-    check_writable(&args.output, "-o")?;
+    check_extension(&args.output, "-o", "json", "scenes")?;
+    check_not_input(&args.output, "-o", &[(&args.scene, "the scenefile being converted")])?;
     let value = cs1230::read(&args.scene)?;
     if !crate::scene::is_cs1230(&value) {
         return Err(Error::input(

@@ -7,7 +7,7 @@ use super::render::with_threads;
 use super::{emit, Outcome, RenderArgs};
 use crate::diff::{self, png, report, Options};
 use crate::error::{Error, Result};
-use crate::output::check_png;
+use crate::output::{check_not_input, check_png};
 use std::path::{Path, PathBuf};
 
 #[derive(Debug, clap::Args)]
@@ -68,6 +68,11 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<Outcome> {
     }
     if let Some(o) = &args.output {
         check_png(o, "-o")?;
+        let mut inputs = vec![(args.scene.as_path(), "the scene"), (&args.yours, "your image")];
+        if let Some(r) = &args.reference {
+            inputs.push((r, "the reference image"));
+        }
+        check_not_input(o, "-o", &inputs)?;
     }
     let yours = png::read_rgb8(&args.yours)?;
     let reference = args.reference.as_deref().map(png::read_rgb8).transpose()?;

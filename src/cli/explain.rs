@@ -61,11 +61,14 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
             ),
         )
     })?;
-    if let Some(d) = &args.diagram {
-        crate::output::check_writable(d, "--diagram")?;
-    }
-    if let Some(d) = &args.bundle_diagram {
-        crate::output::check_writable(d, "--bundle-diagram")?;
+    for (d, arg) in [
+        (&args.diagram, "--diagram"),
+        (&args.bundle_diagram, "--bundle-diagram"),
+    ] {
+        if let Some(d) = d {
+            crate::output::check_png(d, arg)?;
+            crate::output::check_not_input(d, arg, &[(&args.scene, "the scene")])?;
+        }
     }
     let scene = args.render.load(&args.scene)?;
     let (x, y) = parse_pixel(&args.pixel, scene.camera.width, scene.camera.height)?;

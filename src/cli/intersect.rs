@@ -270,7 +270,7 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
         ));
     }
     if let Some(o) = &args.output {
-        crate::output::check_writable(o, "-o")?;
+        crate::output::check_png(o, "-o")?;
     }
     if let Some(to) = &args.bundle_to {
         return super::intersect_bundle::run(&args, to, out);

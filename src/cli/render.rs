@@ -3,7 +3,7 @@
 use super::{default_output, RenderArgs};
 use crate::accel::{Traversal, BUNDLE};
 use crate::error::{Error, Result};
-use crate::output::{check_png, write_png};
+use crate::output::{check_not_input, check_png, write_png};
 use crate::sampling::aov::{render_aov, Aov};
 use crate::sampling::progressive::{describe, pass_settings, progressive, Pass};
 use crate::sampling::render;
@@ -210,6 +210,11 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
     if args.output.is_none() && loaded.output.is_none() {
         check_png(&out, "-o")?;
     }
+    let out_arg = match (&args.output, &loaded.output) {
+        (None, Some(_)) => "the ini's [IO] output",
+        _ => "-o",
+    };
+    check_not_input(&out, out_arg, &[(&args.scene, "the scene")])?;
     render_args.warn(&loaded.warnings);
     let mut scene = loaded.scene;
     if let Some(aov) = aov {

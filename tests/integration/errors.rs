@@ -453,6 +453,30 @@ fn cases() -> Vec<Case> {
             vec!["render", "scene.json", "-o", "out.jpg", "--quiet"],
             vec!["argument -o", "cannot write .jpg", "use a .png"],
         ),
+        c(
+            "output over the scene itself",
+            vec![("scene.png", obj(SPHERE))],
+            vec!["render", "scene.png", "-o", "./scene.png", "--quiet"],
+            vec!["argument -o", "scene.png is the scene", "choose another name"],
+        ),
+        c(
+            "diff's figure over the image being diffed",
+            vec![("scene.json", obj(SPHERE)), ("mine.png", GOOD.to_vec())],
+            vec!["diff", "scene.json", "mine.png", "-o", "mine.png"],
+            vec!["argument -o", "mine.png is your image", "choose another name"],
+        ),
+        c(
+            "explain's diagram not a PNG",
+            s(obj(SPHERE)),
+            vec!["explain", "scene.json", "--pixel", "1,1", "--diagram", "scene.json"],
+            vec!["argument --diagram", "cannot write .json images", "use a .png"],
+        ),
+        c(
+            "convert over its own input",
+            s(obj(SPHERE)),
+            vec!["convert", "scene.json", "-o", "scene.json"],
+            vec!["argument -o", "scene.json is the scenefile being converted"],
+        ),
         // ---- command-line values
         c(
             "--spp 0",
