@@ -19,6 +19,7 @@ use std::fmt::Write as _;
 
 // The arguments and their parsing have their own module; re-exported where they used to live.
 pub use super::intersect_args::{shape_and_ray, Args, SHAPES};
+use super::intersect_args::{bounded_vec3, direction};
 
 // The report is a library type; re-exported here where it used to live.
 pub use crate::report::intersect::{
@@ -292,11 +293,8 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
                 ),
             )
         })?;
-        let v = |arg: &str, s: &str| -> Result<DVec3> {
-            let l = super::parse_list(arg, s, 3)?;
-            Ok(DVec3::new(l[0], l[1], l[2]))
-        };
-        let (origin, dir) = (v("--origin", &args.origin)?, v("--dir", &args.dir)?);
+        let origin = bounded_vec3("--origin", &args.origin)?;
+        let dir = direction("--dir", bounded_vec3("--dir", &args.dir)?)?;
         return super::intersect_solids::run(
             &args.shape,
             spec,

@@ -3,6 +3,7 @@
 
 use super::parse_list;
 use crate::error::{Error, Result};
+use crate::scene::json::{MAX_MAGNITUDE, MIN_SIZE};
 use crate::math::Ray;
 use crate::shapes::{Cone, Cuboid, Cylinder, Plane, Shape, Sphere, Triangle};
 use glam::DVec3;
@@ -81,17 +82,58 @@ pub const SHAPES: [&str; 7] = [
     "circle", "sphere", "plane", "cylinder", "cone", "box", "triangle",
 ];
 
+/// The shortest direction a ray may have: shorter ones make a, the square of its length, fall
+/// below what f64 holds (and 1/d overflow in the bundle's f32).
+pub const MIN_LENGTH: f64 = 1e-12;
+
+/// `n` comma-separated numbers, each within the limits a scene's loader sets on coordinates
+/// ([`MAX_MAGNITUDE`]): beyond them the working's squares overflow and its answers would be
+/// infinities and NaN.
+pub fn bounded_list(arg: &str, s: &str, n: usize) -> Result<Vec<f64>> {
+    let l = parse_list(arg, s, n)?;
+    within(arg, &l)?;
+    Ok(l)
+}
+
+/// Refuses coordinates beyond [`MAX_MAGNITUDE`].
+pub fn within(arg: &str, l: &[f64]) -> Result<()> {
+    match l.iter().find(|x| x.abs() > MAX_MAGNITUDE) {
+        Some(x) => Err(Error::arg(
+            arg,
+            format!("{x:e} is out of range: coordinates up to {MAX_MAGNITUDE:e}, as in a scene"),
+        )),
+        None => Ok(()),
+    }
+}
+
+/// X,Y,Z within the limits ([`bounded_list`]).
+pub fn bounded_vec3(arg: &str, s: &str) -> Result<DVec3> {
+    let v = bounded_list(arg, s, 3)?;
+    Ok(DVec3::new(v[0], v[1], v[2]))
+}
+
+/// A ray's direction: not zero, not shorter than [`MIN_LENGTH`].
+pub fn direction(arg: &str, d: DVec3) -> Result<DVec3> {
+    if d.length() < MIN_LENGTH {
+        return Err(Error::arg(
+            arg,
+            format!("the direction must not be zero (or shorter than {MIN_LENGTH:e})"),
+        ));
+    }
+    Ok(d)
+}
+
 fn num(arg: &str, s: &Option<String>, default: f64) -> Result<f64> {
     match s {
         None => Ok(default),
-        Some(s) => Ok(parse_list(arg, s, 1)?[0]),
+        Some(s) => Ok(bounded_list(arg, s, 1)?[0]),
     }
 }
 
 fn vec3(arg: &str, s: &Option<String>, default: DVec3) -> Result<DVec3> {
     match s {
         None => Ok(default),
-        Some(s) => super::parse_vec3(arg, s),
+        Some(s) => bounded_vec3(arg, s),
     }
 }
 
@@ -150,19 +192,22 @@ pub fn shape_and_ray(args: &Args) -> Result<(&'static str, Shape, Ray)> {
     let two_d = name == "circle";
     let n = if two_d { 2 } else { 3 };
     let v = |arg: &str, s: &str| -> Result<DVec3> {
-        let l = parse_list(arg, s, n)?;
+        let l = bounded_list(arg, s, n)?;
         Ok(DVec3::new(l[0], l[1], if two_d { 0.0 } else { l[2] }))
     };
     let origin = v("--origin", &args.origin)?;
-    let dir = v("--dir", &args.dir)?;
-    if dir == DVec3::ZERO {
-        return Err(Error::arg("--dir", "the direction must not be zero"));
-    }
+    let dir = direction("--dir", v("--dir", &args.dir)?)?;
+    // A size as a scene's loader takes it: positive, and not below MIN_SIZE.
     let positive = |arg: &str, x: f64| -> Result<f64> {
-        if x > 0.0 {
-            Ok(x)
-        } else {
+        if x <= 0.0 {
             Err(Error::arg(arg, format!("must be positive, found {x}")))
+        } else if x < MIN_SIZE {
+            Err(Error::arg(
+                arg,
+                format!("{x:e} is too small: sizes must be at least {MIN_SIZE:e}"),
+            ))
+        } else {
+            Ok(x)
         }
     };
     let range = |lo: f64, hi: f64| -> Result<()> {
@@ -233,7 +278,7 @@ pub fn shape_and_ray(args: &Args) -> Result<(&'static str, Shape, Ray)> {
             only(args, &["--a", "--b", "--c"])?;
             let corner = |arg: &str, s: &Option<String>| -> Result<DVec3> {
                 match s {
-                    Some(s) => super::parse_vec3(arg, s),
+                    Some(s) => bounded_vec3(arg, s),
                     None => Err(Error::arg(
                         arg,
                         "a triangle needs its three corners: --a X,Y,Z --b X,Y,Z --c X,Y,Z",

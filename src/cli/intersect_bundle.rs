@@ -12,19 +12,16 @@
 //! `t_enter` is null for a ray that misses; `lane_test`, `together` and `kept` are null
 //! when the bundle is not sign-coherent (no bundle test is made).
 
-use super::intersect_args::{box_corners, Args};
-use super::{emit, parse_list, parse_vec3};
+use super::intersect_args::{bounded_vec3, box_corners, direction, Args, MIN_LENGTH};
+use super::{emit, parse_list};
 use crate::accel::{bundle_working, BundleWorking, BUNDLE};
 use crate::error::{Error, Result};
 use crate::math::Ray;
-use crate::scene::json::MAX_MAGNITUDE;
 use crate::shapes::working::{tiny, vector};
 use crate::shapes::Aabb;
 use glam::DVec3;
 use serde::Serialize;
 
-/// The shortest direction a bundle's ray may have: shorter ones make 1/d overflow in f32.
-const MIN_LENGTH: f64 = 1e-12;
 use std::fmt::Write as _;
 
 /// The bundle the arguments describe: `--rays` rays (16 unless given) from `--origin`, their
@@ -60,35 +57,12 @@ pub fn bundle_and_box(args: &Args, to: &str) -> Result<(Vec<Ray>, Aabb)> {
     };
     // The walk's tests run in f32: numbers as large as a scene may hold (its loader's
     // limit), and directions long enough that 1/d is a number.
-    let within = |arg: &str, v: DVec3| -> Result<DVec3> {
-        if let Some(x) = v.to_array().into_iter().find(|x| x.abs() > MAX_MAGNITUDE) {
-            return Err(Error::arg(
-                arg,
-                format!(
-                    "{x:e} is out of range: coordinates up to {MAX_MAGNITUDE:e}, as in a scene"
-                ),
-            ));
-        }
-        Ok(v)
-    };
-    let origin = within("--origin", parse_vec3("--origin", &args.origin)?)?;
-    let direction = |arg: &str, s: &str| -> Result<DVec3> {
-        let d = within(arg, parse_vec3(arg, s)?)?;
-        if d.length() < MIN_LENGTH {
-            return Err(Error::arg(
-                arg,
-                format!("the direction must not be zero (or shorter than {MIN_LENGTH:e})"),
-            ));
-        }
-        Ok(d)
-    };
+    let origin = bounded_vec3("--origin", &args.origin)?;
     let (first, last) = (
-        direction("--dir", &args.dir)?,
-        direction("--bundle-to", to)?,
+        direction("--dir", bounded_vec3("--dir", &args.dir)?)?,
+        direction("--bundle-to", bounded_vec3("--bundle-to", to)?)?,
     );
     let (min, max) = box_corners(args)?;
-    within("--min", min)?;
-    within("--max", max)?;
     let rays: Vec<Ray> = (0..n)
         .map(|i| {
             let s = i as f64 / (n - 1) as f64;

@@ -592,6 +592,24 @@ fn cases() -> Vec<Case> {
             vec!["--rays", "it goes with --bundle-to"],
         ),
         c(
+            "a ray beyond a scene's range",
+            vec![],
+            vec!["intersect", "sphere", "--origin", "0,0,5", "--dir", "1e308,0,-1e308"],
+            vec!["argument --dir", "1e308 is out of range: coordinates up to 1e12"],
+        ),
+        c(
+            "a direction too short to square",
+            vec![],
+            vec!["intersect", "sphere", "--origin", "0,0,5", "--dir", "0,0,-1e-300"],
+            vec!["argument --dir", "must not be zero (or shorter than 1e-12)"],
+        ),
+        c(
+            "a radius below a scene's smallest size",
+            vec![],
+            vec!["intersect", "sphere", "--radius", "1e-320", "--origin", "0,0,5", "--dir", "0,0,-1"],
+            vec!["argument --radius", "too small: sizes must be at least 1e-12"],
+        ),
+        c(
             "a bundle from beyond a scene's range",
             vec![],
             vec!["intersect", "box", "--origin", "0,0,-1e13", "--dir", "0,0,1", "--bundle-to", "0.1,0,1"],
