@@ -204,7 +204,9 @@ fn render_with<R: Tally>(
                 }
                 halt
             };
-            if halt() {
+            // Ctrl-C or a cancelled token too: a tile's plan alone (the bundled render's) can
+            // take milliseconds, and a cancelled render has hundreds of tiles left to skip.
+            if settings.cancel.is_cancelled() || halt() {
                 return Default::default();
             }
             let mut bundles = BundleTally::default();

@@ -323,6 +323,30 @@ fn a_cancelled_token_stops_a_render_inside_one_huge_tree() {
 }
 
 #[test]
+fn a_cancelled_render_skips_its_tiles_without_planning_them() {
+    // The bundled render plans each tile's samples before tracing it: 2000×2000 pixels at
+    // 64 samples is 256 million samples to plan, many seconds of work. A render whose token
+    // is already cancelled (Ctrl-C pressed while the scene loaded) must skip every tile, in
+    // both traversals, as promptly as the single-ray render always did.
+    let mut scene = Scene::load(std::path::Path::new(&nested_glass("cancel-tiles.json"))).unwrap();
+    scene.camera.update_size(2000, 2000);
+    scene.render.spp = 64;
+    scene.render.sampler = rtlab::scene::SamplerKind::Grid;
+    let cancel = rtlab::interrupt::Cancel::new();
+    cancel.cancel();
+    scene.render.cancel = cancel;
+    for traversal in [rtlab::accel::Traversal::Bundle, rtlab::accel::Traversal::Single] {
+        let mut settings = scene.render.clone();
+        settings.traversal = traversal;
+        let t0 = Instant::now();
+        let out = rtlab::sampling::render(&scene, &settings, false, None);
+        assert!(out.cancelled);
+        let took = t0.elapsed();
+        assert!(took < Duration::from_secs(3), "{traversal:?}: took {took:?} to give up");
+    }
+}
+
+#[test]
 fn json_nested_past_the_reader_limit_says_the_limit_and_the_way_out() {
     fn csg(levels: usize) -> String {
         let mut node = r#"{"shape": "sphere", "radius": 1}"#.to_string();
