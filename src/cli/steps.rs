@@ -13,7 +13,7 @@ use super::explain::{explain, parse_pixel};
 use super::render::with_threads;
 use super::RenderArgs;
 use crate::error::{Error, Result};
-use crate::output::{check_png, write_atomic, write_png};
+use crate::output::{check_png, check_writable, png_bytes, write_atomic, write_png};
 use crate::trace::forward::trace_photons;
 use crate::viz::slice::SlicePlane;
 use crate::viz::steps::{
@@ -176,7 +176,9 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
         let dir = &args.output;
         std::fs::create_dir_all(dir)
             .map_err(|e| Error::io(dir, format!("cannot create the folder: {e}")))?;
-        remove_old_frames(dir)?;
+        // Every file made in memory and every name checked before the first is written, so a
+        // name that cannot be written (a folder in the way) leaves the folder as it was.
+        let mut files = Vec::new();
         let mut index = Vec::new();
         for (i, f) in frames.iter().enumerate() {
             let name = file_name(i, f);
@@ -185,21 +187,27 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
             } else {
                 captioned(f, i + 1, frames.len())
             };
-            write_png(&dir.join(&name), &img)?;
+            let path = dir.join(&name);
+            files.push((png_bytes(&img).map_err(|e| Error::io(&path, e))?, path));
             text += &format!("{name}  {}\n", f.caption);
             index.push(IndexEntry {
                 file: name,
                 caption: f.caption.clone(),
             });
         }
-        let index_path = dir.join("index.json");
         let body = serde_json::to_string_pretty(&index).expect("serialisable") + "\n";
-        write_atomic(&index_path, body.as_bytes())?;
+        files.push((body.into_bytes(), dir.join("index.json")));
         if args.gif {
             let path = dir.join("steps.gif");
-            let bytes = gif(&frames, &path)?;
-            write_atomic(&path, &bytes)?;
+            files.push((gif(&frames, &path)?, path));
             text += "steps.gif  all frames, animated\n";
+        }
+        for (_, path) in &files {
+            check_writable(path, "-o")?;
+        }
+        remove_old_frames(dir)?;
+        for (bytes, path) in &files {
+            write_atomic(path, bytes)?;
         }
         text += &format!(
             "wrote {} frame{} to {}\n",
@@ -217,21 +225,32 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
     Ok(())
 }
 
-/// Removes frames of an earlier run (`NNN-name.png`), so the folder holds one sequence.
+/// Removes the frames of an earlier run: the files its `index.json` lists (frame names only,
+/// `NNN-name.png`), so the folder holds one sequence. Files the index does not list are
+/// never touched, whatever their names.
 fn remove_old_frames(dir: &Path) -> Result<()> {
-    let entries = std::fs::read_dir(dir).map_err(|e| Error::io(dir, e.to_string()))?;
-    for e in entries.flatten() {
-        let name = e.file_name().to_string_lossy().into_owned();
-        let b = name.as_bytes();
-        let ours = name.ends_with(".png")
+    #[derive(serde::Deserialize)]
+    struct Listed {
+        file: String,
+    }
+    let Ok(text) = std::fs::read_to_string(dir.join("index.json")) else {
+        return Ok(()); // no earlier run here (or not one rtlab can read): nothing to remove
+    };
+    let Ok(listed) = serde_json::from_str::<Vec<Listed>>(&text) else {
+        return Ok(());
+    };
+    for Listed { file } in listed {
+        let b = file.as_bytes();
+        let frame = file.ends_with(".png")
             && b.len() > 8
             && b[..3].iter().all(u8::is_ascii_digit)
             && b[3] == b'-'
-            && name[4..name.len() - 4]
+            && file[4..file.len() - 4]
                 .bytes()
                 .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == b'-');
-        if ours {
-            std::fs::remove_file(e.path()).map_err(|err| Error::io(&e.path(), err.to_string()))?;
+        let path = dir.join(&file);
+        if frame && path.is_file() {
+            std::fs::remove_file(&path).map_err(|err| Error::io(&path, err.to_string()))?;
         }
     }
     Ok(())

@@ -550,3 +550,43 @@ fn storyboard_view_does_not_move_between_frames() {
     let (first, last) = (eye_at(1), eye_at(n));
     assert_eq!(first, last);
 }
+
+#[test]
+fn steps_replaces_its_own_frames_and_nothing_else() {
+    let dir = tmp("steps-own-frames");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    // A student's file that looks like a frame but no run of steps listed.
+    let theirs = dir.join("050-my-homework.png");
+    std::fs::write(&theirs, b"mine").unwrap();
+    let small = ["--width", "32", "--height", "24", "--quiet"];
+    let d = dir.to_str().unwrap();
+    let o = rtlab(&[&["steps", "scenes/mirrors.json", "-o", d][..], &small[..]].concat());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let many = std::fs::read_dir(&dir).unwrap().count();
+    // A shorter sequence into the same folder: the longer run's extra frames go (its
+    // index.json lists them), the student's file stays.
+    let o = rtlab(&[&["steps", "scenes/spheres.json", "-o", d][..], &small[..]].concat());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    let index: Vec<serde_json::Value> =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("index.json")).unwrap()).unwrap();
+    assert_eq!(names.len(), index.len() + 2, "{names:?}"); // the frames, index.json, theirs
+    assert!(names.len() < many, "{names:?}");
+    assert_eq!(std::fs::read(&theirs).unwrap(), b"mine");
+
+    // A name that cannot be written (a folder where index.json goes): exit 2, nothing written.
+    let blocked = tmp("steps-blocked");
+    let _ = std::fs::remove_dir_all(&blocked);
+    std::fs::create_dir_all(blocked.join("index.json")).unwrap();
+    let b = blocked.to_str().unwrap();
+    let o = rtlab(&[&["steps", "scenes/spheres.json", "-o", b][..], &small[..]].concat());
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("index.json is a directory"), "{}", stderr(&o));
+    assert_eq!(std::fs::read_dir(&blocked).unwrap().count(), 1, "frames were written");
+    let _ = std::fs::remove_dir_all(&dir);
+    let _ = std::fs::remove_dir_all(&blocked);
+}
