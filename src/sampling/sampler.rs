@@ -10,8 +10,8 @@ use glam::{DVec2, DVec3};
 /// so every sampler reaches it).
 pub const MAX_SPP: u32 = 65536;
 
-/// Checks that `spp` suits the sampler (grids need a square number, the adaptive sampler a
-/// power of four: its finest level is a 2ᵏ×2ᵏ grid).
+/// Checks that `spp` suits the sampler (the centre is one sample, grids need a square
+/// number, the adaptive sampler a power of four: its finest level is a 2ᵏ×2ᵏ grid).
 pub fn validate_spp(kind: SamplerKind, spp: u32) -> Result<(), String> {
     if spp == 0 {
         return Err("samples per pixel must be at least 1".into());
@@ -19,6 +19,12 @@ pub fn validate_spp(kind: SamplerKind, spp: u32) -> Result<(), String> {
     if spp > MAX_SPP {
         return Err(format!(
             "{spp} samples per pixel is more than the limit of {MAX_SPP}"
+        ));
+    }
+    if kind == SamplerKind::Center && spp != 1 {
+        return Err(format!(
+            "the center sampler takes one sample per pixel, found {spp}: for more, choose a \
+             sampler that takes several (grid, jittered, random or adaptive)"
         ));
     }
     if matches!(kind, SamplerKind::Grid | SamplerKind::Jittered) {

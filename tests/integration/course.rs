@@ -166,6 +166,8 @@ fn stage_presets_and_overrides_in_both_directions() {
         "3",
         "--spp",
         "4",
+        "--sampler",
+        "grid",
     ]);
     assert!(r.shadows && r.reflections && r.refractions && r.textures);
     assert_eq!((r.max_depth, r.spp), (3, 4));

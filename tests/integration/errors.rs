@@ -312,14 +312,14 @@ fn cases() -> Vec<Case> {
         ),
         c(
             "image × samples too large for memory",
-            s(br#"{"camera": {"position": [0, 0, 5], "width": 10000, "height": 10000}, "render": {"spp": 16}}"#.to_vec()),
+            s(br#"{"camera": {"position": [0, 0, 5], "width": 10000, "height": 10000}, "render": {"spp": 16, "sampler": "random"}}"#.to_vec()),
             r(),
             vec!["scene.json", "camera", "10000×10000 pixels at 16 sample(s)", "GiB of memory"],
         ),
         c(
             "--spp too large for memory",
             s(obj(SPHERE)),
-            vec!["render", "scene.json", "-o", "good.png", "--width", "8000", "--height", "8000", "--spp", "64"],
+            vec!["render", "scene.json", "-o", "good.png", "--width", "8000", "--height", "8000", "--spp", "64", "--sampler", "random"],
             vec!["argument --width/--height/--spp", "GiB of memory"],
         ),
         c(
@@ -483,6 +483,12 @@ fn cases() -> Vec<Case> {
             s(obj(SPHERE)),
             vec!["render", "scene.json", "-o", "good.png", "--spp", "0", "--quiet"],
             vec!["argument --spp", "at least 1"],
+        ),
+        c(
+            "--spp for the one-sample sampler",
+            s(obj(SPHERE)),
+            vec!["render", "scene.json", "-o", "good.png", "--spp", "16", "--quiet"],
+            vec!["argument --spp", "the center sampler takes one sample per pixel, found 16", "grid, jittered, random or adaptive"],
         ),
         c(
             "--width 0",

@@ -465,6 +465,8 @@ fn compare_and_steps_refuse_renders_too_large_for_memory() {
             "6000",
             "--spp",
             "64",
+            "--sampler",
+            "random",
             "-o",
             dir.to_str().unwrap(),
         ],

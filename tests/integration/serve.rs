@@ -162,13 +162,15 @@ fn render_and_explain_are_the_clis_bytes() {
         "2",
         "--spp",
         "2",
+        "--sampler",
+        "random",
         "--no-shadows",
         "-q",
         "-o",
         out.to_str().unwrap(),
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
-    let r = s.get("/api/render.png?spp=2&no-shadows");
+    let r = s.get("/api/render.png?spp=2&sampler=random&no-shadows");
     assert_eq!(r.status, 200, "{}", r.text());
     assert!(r.headers.contains("image/png"));
     assert_eq!(
