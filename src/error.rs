@@ -103,3 +103,18 @@ mod tests {
         assert_eq!(suggest("zzzzzz", &["radius"]), None);
     }
 }
+
+/// `msg` with its control characters escaped (`\n` as `\\n`, an escape code as `\\u{1b}`):
+/// an error is one line, and a value echoed back in it must not break the line or drive the
+/// terminal.
+pub fn printable(msg: &str) -> String {
+    msg.chars()
+        .map(|c| {
+            if c.is_control() {
+                c.escape_default().to_string()
+            } else {
+                c.to_string()
+            }
+        })
+        .collect()
+}

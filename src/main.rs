@@ -18,11 +18,11 @@ fn main() -> ExitCode {
         Ok(rtlab::cli::Outcome::Different) => ExitCode::from(1),
         // Ctrl-C: 128 + SIGINT, what a shell reports for a program the signal stopped.
         Err(e) if rtlab::interrupt::requested() => {
-            eprintln!("error: {e}");
+            eprintln!("error: {}", rtlab::error::printable(&e.to_string()));
             ExitCode::from(130)
         }
         Err(e) => {
-            eprintln!("error: {e}");
+            eprintln!("error: {}", rtlab::error::printable(&e.to_string()));
             ExitCode::from(2)
         }
     }

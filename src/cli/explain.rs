@@ -113,14 +113,21 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
     }
     if let Some(path) = &args.diagram {
         // The first sample of the pixel itself (the one --sample chose, if given).
-        if let Some(s) = e.samples.iter().find(|s| s.pixel == [x, y]) {
-            let opts = crate::viz::slice::SliceOptions {
-                plane,
-                caption: Some(format!("pixel ({x}, {y}), sample {}", s.index)),
-                ..Default::default()
-            };
-            crate::viz::slice::draw(&scene, &s.ray, &opts)?.write_png(path)?;
-        }
+        let s = e.samples.iter().find(|s| s.pixel == [x, y]).ok_or_else(|| {
+            Error::arg(
+                "--diagram",
+                format!(
+                    "pixel ({x}, {y}) traces no samples of its own (it is filled in by \
+                     --subsample): no ray to draw; pick a traced pixel"
+                ),
+            )
+        })?;
+        let opts = crate::viz::slice::SliceOptions {
+            plane,
+            caption: Some(format!("pixel ({x}, {y}), sample {}", s.index)),
+            ..Default::default()
+        };
+        crate::viz::slice::draw(&scene, &s.ray, &opts)?.write_png(path)?;
     }
     // `--mistake`: the pixel again without the mistakes, and what differs.
     if args.format == "json" {

@@ -54,6 +54,15 @@ pub fn loader(scene: PathBuf, base: RenderArgs) -> Loader {
             let line = text.lines().next().unwrap_or("bad render option");
             Error::Other(line.trim_start_matches("error: ").to_string())
         })?;
+        // The server reads its scene again whenever it changes: a pipe or a device there
+        // would block the read (and the watcher behind it) until something writes to it.
+        if std::fs::metadata(&scene).is_ok_and(|m| !m.is_file() && !m.is_dir()) {
+            return Err(Error::input(
+                &scene,
+                "",
+                "is not a regular file (a pipe or a device): the server needs a scene file it can read again",
+            ));
+        }
         let s = a.render.load(&scene)?;
         a.render.check_memory(&s, &scene, s.render.spp)?;
         Ok(s)

@@ -17,8 +17,18 @@ pub const MAX_UPLOAD: usize = 16 << 20;
 pub async fn diff(
     axum::extract::State(state): St,
     RawQuery(raw): RawQuery,
-    body: Bytes,
+    body: Result<Bytes, axum::extract::rejection::BytesRejection>,
 ) -> Response {
+    let body = match body {
+        Ok(b) => b,
+        Err(e) if e.status() == axum::http::StatusCode::PAYLOAD_TOO_LARGE => {
+            return super::security::refuse(
+                e.status(),
+                &format!("the upload is larger than {} MiB", MAX_UPLOAD >> 20),
+            )
+        }
+        Err(e) => return super::security::refuse(e.status(), &e.body_text()),
+    };
     let q = match query(&raw, &["tolerance", "max-percent", "format"]) {
         Ok(q) => q,
         Err(r) => return r,

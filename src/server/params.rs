@@ -8,6 +8,9 @@ use std::collections::BTreeMap;
 /// Longest query string accepted (bytes); longer requests are refused before parsing.
 pub const MAX_QUERY: usize = 4096;
 
+/// Render options that may be given more than once, as on the command line.
+const REPEATABLE: [&str; 1] = ["mistake"];
+
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Params {
     /// The endpoint's own parameters.
@@ -36,7 +39,9 @@ pub fn parse(query: Option<&str>, own_keys: &[&str]) -> Result<Params> {
                 "is not a parameter name (expected lower-case words joined by '-', e.g. spp or no-shadows)",
             ));
         }
-        if !seen.insert(k.clone()) {
+        // Options the command line takes more than once (`--mistake a --mistake b`) may
+        // repeat; any other key given twice is a mistake.
+        if !seen.insert(k.clone()) && !REPEATABLE.contains(&k.as_str()) {
             return Err(Error::arg(&k, "is given twice"));
         }
         if own_keys.contains(&k.as_str()) {
@@ -80,6 +85,14 @@ impl Params {
                 .get("y")
                 .ok_or_else(|| Error::arg("y", "is missing (e.g. ?x=160&y=120)"))?,
         );
+        for (key, v) in [("x", x), ("y", y)] {
+            if v.is_empty() || !v.bytes().all(|c| c.is_ascii_digit()) {
+                return Err(Error::arg(
+                    key,
+                    format!("expected a whole number, found \"{}\"", v.escape_debug()),
+                ));
+            }
+        }
         crate::report::explain::parse_pixel(&format!("{x},{y}"), width, height)
     }
 }

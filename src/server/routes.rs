@@ -46,9 +46,9 @@ pub fn router(state: Arc<State>) -> Router {
         .route("/api/events", get(events))
         .route(
             "/api/diff",
-            axum::routing::post(super::diff::diff).layer(axum::extract::DefaultBodyLimit::max(
-                super::diff::MAX_UPLOAD,
-            )),
+            axum::routing::post(super::diff::diff)
+                .fallback(super::security::not_post)
+                .layer(axum::extract::DefaultBodyLimit::max(super::diff::MAX_UPLOAD)),
         )
         .fallback(asset)
         .layer(axum::middleware::from_fn_with_state(
@@ -65,17 +65,34 @@ async fn asset(req: Request<Body>) -> Response {
     }
 }
 
-/// Runs `work` on a blocking thread and turns its result into a response.
+/// Runs `work` on a blocking thread and turns its result into a response. The work keeps
+/// its slot among [`State::jobs`] until it ends, even when the client has gone away (a render
+/// then stops early: its flag is set when the request is dropped, [`Running`]).
 pub(super) async fn run<F>(state: Arc<State>, work: F) -> Response
 where
     F: FnOnce(&State) -> Answer + Send + 'static,
 {
-    let Ok(_permit) = state.jobs.acquire().await else {
+    let Ok(permit) = state.jobs.clone().acquire_owned().await else {
         return super::security::refuse(StatusCode::SERVICE_UNAVAILABLE, "shutting down");
     };
     let st = state.clone();
-    match tokio::task::spawn_blocking(move || work(&st)).await {
-        Ok(Ok((kind, bytes))) => (
+    let work = move || {
+        let _permit = permit;
+        work(&st)
+    };
+    match tokio::task::spawn_blocking(work).await {
+        Ok(answer) => respond(answer),
+        Err(_) => super::security::refuse(
+            StatusCode::INTERNAL_SERVER_ERROR,
+            "the request failed unexpectedly (a bug in rtlab)",
+        ),
+    }
+}
+
+/// The response for a handler's answer.
+fn respond(answer: Answer) -> Response {
+    match answer {
+        Ok((kind, bytes)) => (
             [
                 (header::CONTENT_TYPE, kind),
                 (header::CACHE_CONTROL, "no-store"),
@@ -83,18 +100,28 @@ where
             bytes,
         )
             .into_response(),
-        Ok(Err(Fail::Status(code, msg))) => super::security::refuse(code, &msg),
-        Ok(Err(Fail::Error(e))) => {
+        Err(Fail::Status(code, msg)) => super::security::refuse(code, &msg),
+        Err(Fail::Error(e)) => {
             let code = match e {
                 Error::Input { .. } | Error::Io { .. } => StatusCode::UNPROCESSABLE_ENTITY,
                 _ => StatusCode::BAD_REQUEST,
             };
             super::security::refuse(code, &e.to_string())
         }
-        Err(_) => super::security::refuse(
-            StatusCode::INTERNAL_SERVER_ERROR,
-            "the request failed unexpectedly (a bug in rtlab)",
-        ),
+    }
+}
+
+/// A render in progress: released ([`State::release`]) when its request ends, answered or
+/// dropped because the client went away, so an abandoned render stops instead of running on.
+struct Running {
+    state: Arc<State>,
+    stream: Option<String>,
+    flag: Arc<std::sync::atomic::AtomicBool>,
+}
+
+impl Drop for Running {
+    fn drop(&mut self) {
+        self.state.release(self.stream.as_deref(), &self.flag);
     }
 }
 
@@ -185,15 +212,15 @@ fn describe(s: &Scene) -> serde_json::Value {
 
 /// `GET /api/options`: the render options the page offers as controls, and the AOV names.
 async fn options(axum::extract::State(state): St) -> Response {
-    run(state, |st| {
-        json(&serde_json::json!({"render": st.options, "aov": Aov::names()}))
-    })
-    .await
+    // Light work: answered at once, never queued behind renders.
+    respond(json(
+        &serde_json::json!({"render": state.options, "aov": Aov::names()}),
+    ))
 }
 
 /// `GET /api/status`: the live scene's version and error.
 async fn status(axum::extract::State(state): St) -> Response {
-    run(state, |st| json(&st.status())).await
+    respond(json(&state.status()))
 }
 
 /// `GET /api/explain?x=X&y=Y&<render options>`: `rtlab explain --format json`.
@@ -235,11 +262,23 @@ async fn diagram(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Re
         let (x, y) = q.pixel(s.camera.width, s.camera.height)?;
         let e = crate::report::explain::explain(&s, x, y);
         let Some(sample) = e.samples.iter().find(|k| k.pixel == [x, y]) else {
-            return Err(Fail::Status(
-                StatusCode::NOT_FOUND,
-                format!("pixel ({x}, {y}) traces no samples of its own (it is filled in by --subsample)"),
-            ));
+            return Err(Error::arg(
+                "x/y",
+                format!(
+                    "pixel ({x}, {y}) traces no samples of its own (it is filled in by \
+                     --subsample): no ray to draw; pick a traced pixel"
+                ),
+            )
+            .into());
         };
+        let rays = crate::viz::slice::event_count(&sample.ray);
+        if let Some(k) = highlight.filter(|&k| k >= rays) {
+            return Err(Error::arg(
+                "highlight",
+                format!("ray {k} does not exist (pixel ({x}, {y})'s tree has {rays}, 0..{})", rays - 1),
+            )
+            .into());
+        }
         let opts = crate::viz::slice::SliceOptions {
             plane,
             caption: Some(format!("pixel ({x}, {y}), sample {}", sample.index)),
@@ -252,6 +291,9 @@ async fn diagram(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Re
     .await
 }
 
+/// The longest stream name a render may give (the page's are a few characters).
+const MAX_STREAM: usize = 64;
+
 /// `GET /api/render.png?[aov=NAME][&pass=K][&stream=ID]&<render options>`: the bytes
 /// `rtlab render` (with `--aov NAME`, `--passes K`) writes: pass K of the progressive
 /// render (1: the preview, 2: the scene's own settings, more: more samples per pixel), the
@@ -261,7 +303,22 @@ async fn render(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Res
         Ok(q) => q,
         Err(r) => return r,
     };
-    let cancel = state.supersede(q.own.get("stream").map(String::as_str));
+    let stream = q.own.get("stream").cloned();
+    if let Some(id) = stream.as_ref().filter(|id| id.len() > MAX_STREAM) {
+        return super::security::refuse(
+            StatusCode::BAD_REQUEST,
+            &format!(
+                "argument stream: {} characters is too long (at most {MAX_STREAM})",
+                id.chars().count()
+            ),
+        );
+    }
+    let cancel = state.supersede(stream.as_deref());
+    let _running = Running {
+        state: state.clone(),
+        stream,
+        flag: cancel.clone(),
+    };
     run(state, move |st| {
         let aov = q.own.get("aov").map(|a| Aov::parse_arg(a)).transpose()?;
         let pass = q
@@ -286,6 +343,15 @@ async fn render(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Res
             .map_err(|m| Fail::from(Error::arg("pass", m)))?,
             None => s.render.clone(),
         };
+        if let Some(k) = pass {
+            let (w, h) = (s.camera.width, s.camera.height);
+            super::state::check_count(
+                w as u64 * h as u64 * settings.spp as u64,
+                "pass",
+                &format!("pass {k}, {w}×{h} pixels × {} spp,", settings.spp),
+                &format!("rtlab render --passes {k}"),
+            )?;
+        }
         if let Some(aov) = aov {
             return png(&render_aov(&s, &settings, aov).image);
         }
@@ -309,6 +375,13 @@ fn frames(st: &State, q: &Params) -> std::result::Result<Frames, Fail> {
         }
     }
     let (plan, mut skipped) = crate::viz::steps::plan(&s);
+    let (w, h, spp) = (s.camera.width, s.camera.height, s.render.spp);
+    super::state::check_count(
+        w as u64 * h as u64 * spp as u64 * plan.len() as u64,
+        "--width/--height/--spp",
+        &format!("{} frames of {w}×{h} pixels × {spp} spp", plan.len()),
+        "rtlab steps",
+    )?;
     let frames = crate::viz::steps::render_frames(&s, &plan, &mut skipped);
     let n = frames.len();
     let mut out = Vec::with_capacity(n);

@@ -69,7 +69,7 @@ pub struct State {
     pub status: Mutex<Status>,
     pub events: tokio::sync::broadcast::Sender<String>,
     /// Heavy work (renders, explanations) at most this many at a time; the rest wait.
-    pub jobs: tokio::sync::Semaphore,
+    pub jobs: Arc<tokio::sync::Semaphore>,
     /// The steps frames (caption, PNG) of the last scene asked for.
     pub steps: Mutex<Option<(Arc<Scene>, Frames)>>,
 }
@@ -105,7 +105,7 @@ impl State {
                 error: None,
             }),
             events,
-            jobs: tokio::sync::Semaphore::new(2),
+            jobs: Arc::new(tokio::sync::Semaphore::new(2)),
             steps: Mutex::new(None),
         })
     }
@@ -133,15 +133,29 @@ impl State {
     pub fn supersede(&self, stream: Option<&str>) -> Arc<AtomicBool> {
         let flag = Arc::new(AtomicBool::new(false));
         if let Some(name) = stream {
-            let mut streams = lock(&self.streams);
-            if streams.len() > 64 {
-                streams.retain(|_, f| !f.load(Ordering::Relaxed));
-            }
-            if let Some(old) = streams.insert(name.to_string(), flag.clone()) {
+            if let Some(old) = lock(&self.streams).insert(name.to_string(), flag.clone()) {
                 old.store(true, Ordering::Relaxed);
             }
         }
         flag
+    }
+
+    /// Ends a render started by [`State::supersede`], however it ended (finished, superseded,
+    /// or its client gone): its flag is set, so a render still running stops, and its stream
+    /// forgets it unless a newer render took the stream over.
+    pub fn release(&self, stream: Option<&str>, flag: &Arc<AtomicBool>) {
+        flag.store(true, Ordering::Relaxed);
+        if let Some(name) = stream {
+            let mut streams = lock(&self.streams);
+            if streams.get(name).is_some_and(|f| Arc::ptr_eq(f, flag)) {
+                streams.remove(name);
+            }
+        }
+    }
+
+    /// How many streams have a render running (for the tests).
+    pub fn streams(&self) -> usize {
+        lock(&self.streams).len()
     }
 
     pub fn status(&self) -> Status {
@@ -161,13 +175,23 @@ pub fn stamp(path: &std::path::Path) -> Stamp {
 }
 
 fn check_samples(scene: &Scene) -> Result<()> {
-    let n = scene.camera.width as u64 * scene.camera.height as u64 * scene.render.spp as u64;
+    let (w, h, spp) = (scene.camera.width, scene.camera.height, scene.render.spp);
+    check_count(
+        w as u64 * h as u64 * spp as u64,
+        "--width/--height/--spp",
+        &format!("{w}×{h} pixels × {spp} spp"),
+        "rtlab render",
+    )
+}
+
+/// Refuses work of more than [`MAX_SAMPLES`] samples: `n` of them, described by `what`
+/// (blamed on `arg`), for which `instead` is the command to run.
+pub fn check_count(n: u64, arg: &str, what: &str, instead: &str) -> Result<()> {
     if n > MAX_SAMPLES {
         return Err(Error::arg(
-            "--width/--height/--spp",
+            arg,
             format!(
-                "{}×{} pixels × {} spp is {n} samples, more than the server traces for one request ({MAX_SAMPLES}); use rtlab render",
-                scene.camera.width, scene.camera.height, scene.render.spp
+                "{what} is {n} samples, more than the server traces for one request ({MAX_SAMPLES}); use {instead}"
             ),
         ));
     }

@@ -472,6 +472,18 @@ fn cases() -> Vec<Case> {
             vec!["argument --diagram", "cannot write .json images", "use a .png"],
         ),
         c(
+            "diagram of a pixel --subsample fills in",
+            s(obj(SPHERE)),
+            vec!["explain", "scene.json", "--pixel", "1,1", "--subsample", "4", "--diagram", "d.png"],
+            vec!["argument --diagram", "pixel (1, 1) traces no samples of its own", "pick a traced pixel"],
+        ),
+        c(
+            "a control character in a value",
+            s(obj(SPHERE)),
+            vec!["render", "scene.json", "-o", "good.png", "--sampler", "grid\u{1b}[31m"],
+            vec!["argument --sampler", "grid\\u{1b}[31m"],
+        ),
+        c(
             "convert over its own input",
             s(obj(SPHERE)),
             vec!["convert", "scene.json", "-o", "scene.json"],
@@ -763,7 +775,16 @@ fn run_cases() -> Vec<(String, String, String)> {
         if let Some(tip) = msg.lines().find_map(|l| l.trim().strip_prefix("tip: ")) {
             first += &format!(" (tip: {tip})");
         }
-        rows.push((case.kind.to_string(), case.args.join(" "), first));
+        // A control character in an argument is shown as a shell writes it: $'…\e…'.
+        let shown: Vec<String> = case
+            .args
+            .iter()
+            .map(|a| match a.contains('\u{1b}') {
+                true => format!("$'{}'", a.replace('\u{1b}', "\\e")),
+                false => a.to_string(),
+            })
+            .collect();
+        rows.push((case.kind.to_string(), shown.join(" "), first));
     }
     assert!(
         failures.is_empty(),

@@ -424,6 +424,13 @@ fn bad_parameters_get_the_clis_one_line_messages() {
         "/api/render.png?pass=0",
         "/api/render.png?pass=two",
         "/api/render.png?pass=40",
+        // Pass 8 of 160×120 is 4096 spp: past the per-request limit, as spp=4096 is.
+        "/api/render.png?width=160&height=120&pass=8",
+        "/api/render.png?width=160&height=120&aov=depth&pass=8",
+        "/api/diagram.png?x=1&y=1&highlight=999999",
+        "/api/explain?x=1,2&y=3",
+        "/api/explain?x=1&y=1&sampler=grid%0a",
+        "/api/explain?x=1&y=1&sampler=%1b%5b31mred",
     ] {
         let r = s.get(q);
         assert_eq!(r.status, 400, "{q}: {}", r.text());
@@ -432,7 +439,18 @@ fn bad_parameters_get_the_clis_one_line_messages() {
             t.starts_with("error: ") && t.ends_with('\n') && t.lines().count() == 1,
             "{q}: {t:?}"
         );
+        assert!(!t.contains('\u{1b}'), "{q}: a terminal escape code echoed back: {t:?}");
     }
+    let r = s.get("/api/render.png?width=160&height=120&pass=8");
+    assert!(r.text().contains("pass 8, 160×120 pixels × 4096 spp, is"), "{}", r.text());
+    assert!(r.text().contains("use rtlab render --passes 8"), "{}", r.text());
+    let r = s.get("/api/explain?x=1,2&y=3");
+    assert_eq!(r.text(), "error: argument x: expected a whole number, found \"1,2\"\n");
+    let r = s.get(&format!("/api/render.png?subsample=8&stream={}", "s".repeat(65)));
+    assert_eq!(r.status, 400, "{}", r.text());
+    // Options the command line takes twice may repeat in a query too.
+    let r = s.get("/api/explain?x=1&y=1&mistake=shadow-acne&mistake=normal-not-normalized");
+    assert_eq!(r.status, 200, "{}", r.text());
 }
 
 #[test]
@@ -496,6 +514,35 @@ fn hostile_requests_are_refused() {
         s.addr
     ));
     assert_eq!(r.status, 405);
+    let r = s.get("/api/diff");
+    assert_eq!(r.status, 405);
+    assert_eq!(r.text(), "error: only GET requests (and POST /api/diff with a PNG)\n");
+
+    // A page of another site may make the browser send requests here: refused, by what the
+    // browser says of where the request comes from. The page's own requests pass.
+    for header in [
+        "Sec-Fetch-Site: cross-site".to_string(),
+        "Origin: https://evil.example".to_string(),
+        "Origin: null".to_string(),
+        format!("Origin: http://attacker.test:{port}"),
+    ] {
+        let r = s.raw(&format!(
+            "GET /api/render.png?subsample=8 HTTP/1.1\r\nHost: {}\r\n{header}\r\nConnection: close\r\n\r\n",
+            s.addr
+        ));
+        assert_eq!(r.status, 403, "{header}: {}", r.text());
+        assert!(r.text().contains("other sites"), "{}", r.text());
+    }
+    let r = s.raw(&format!(
+        "GET /api/status HTTP/1.1\r\nHost: {0}\r\nOrigin: http://{0}\r\nSec-Fetch-Site: same-origin\r\nConnection: close\r\n\r\n",
+        s.addr
+    ));
+    assert_eq!(r.status, 200, "{}", r.text());
+    let r = s.raw(&format!(
+        "GET /api/status HTTP/1.1\r\nHost: {0}\r\nHost: evil.example\r\nConnection: close\r\n\r\n",
+        s.addr
+    ));
+    assert_eq!(r.status, 400, "two Host headers: {}", r.text());
 
     // Huge requests: a long query, a long target, a huge header, a body announced as huge.
     let q = "spp=1&".repeat(2000);
@@ -565,6 +612,24 @@ fn concurrent_requests_and_superseded_renders() {
     // Another stream's render is not affected.
     let r = s.get("/api/render.png?subsample=4&stream=other");
     assert_eq!(r.status, 200);
+    // Renders whose clients went away stop: they do not keep the server's two work slots
+    // busy (a page that drops its image loads would otherwise pile up renders).
+    for _ in 0..2 {
+        let mut c = TcpStream::connect(&s.addr).unwrap();
+        write!(
+            c,
+            "GET /api/render.png?spp=4096&sampler=random HTTP/1.1\r\nHost: {}\r\n\r\n",
+            s.addr
+        )
+        .unwrap();
+        std::thread::sleep(Duration::from_millis(300));
+        drop(c);
+    }
+    let t0 = Instant::now();
+    let r = s.get("/api/explain?x=100&y=100");
+    assert_eq!(r.status, 200);
+    // Two 4096-spp renders of 480×360 take minutes on this machine; cancelled, seconds.
+    assert!(t0.elapsed() < Duration::from_secs(60), "{:?}", t0.elapsed());
 }
 
 #[test]
