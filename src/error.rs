@@ -90,20 +90,6 @@ pub(crate) fn edit_distance(a: &str, b: &str) -> usize {
     row[b.len()]
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-    #[test]
-    fn suggests_nearest_key() {
-        assert_eq!(
-            suggest("radus", &["radius", "center", "material"]),
-            Some("radius")
-        );
-        assert_eq!(suggest("colour", &["color", "position"]), Some("color"));
-        assert_eq!(suggest("zzzzzz", &["radius"]), None);
-    }
-}
-
 /// `msg` with its control characters escaped (`\n` as `\\n`, an escape code as `\\u{1b}`):
 /// an error is one line, and a value echoed back in it must not break the line or drive the
 /// terminal.
@@ -117,4 +103,18 @@ pub fn printable(msg: &str) -> String {
             }
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    #[test]
+    fn suggests_nearest_key() {
+        assert_eq!(
+            suggest("radus", &["radius", "center", "material"]),
+            Some("radius")
+        );
+        assert_eq!(suggest("colour", &["color", "position"]), Some("color"));
+        assert_eq!(suggest("zzzzzz", &["radius"]), None);
+    }
 }
