@@ -27,6 +27,14 @@ pub struct Args {
 pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
     check_extension(&args.output, "-o", "json", "scenes")?;
     check_not_input(&args.output, "-o", &[(&args.scene, "the scenefile being converted")])?;
+    if crate::scene::cs1230::ini::is_ini(&args.scene) {
+        return Err(Error::input(
+            &args.scene,
+            "",
+            "is a course .ini, not a scenefile: convert the scenefile its [IO] scene names \
+             (render and validate take the .ini itself)",
+        ));
+    }
     let value = cs1230::read(&args.scene)?;
     if !crate::scene::is_cs1230(&value) {
         return Err(Error::input(

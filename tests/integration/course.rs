@@ -333,6 +333,25 @@ fn ini_keys_reach_the_settings() {
     );
     let r = RenderArgs::default().load_full(&ini).unwrap().scene.render;
     assert_eq!((r.spp, r.sampler), (9, rtlab::scene::SamplerKind::Grid));
+    // A pattern rtlab does not know, or a grid of a count that is not square: the sampler
+    // used is said, with the ini's line.
+    for (count, pattern, said) in [
+        (9, "poisson", "not a pattern rtlab knows (grid, jittered or random): grid samples are used"),
+        (3, "grid", "3 samples make no square grid: random samples are used"),
+    ] {
+        let ini = write_tmp(
+            &format!("course/ss/{pattern}.ini"),
+            &format!(
+                "[IO]\nscene = {}\n[Feature]\nsuper-sample = true\nsamples-per-pixel = {count}\n[Settings]\nsuper-sampler-pattern = \"{pattern}\"\n",
+                path(LIGHTS).display()
+            ),
+        );
+        let loaded = RenderArgs::default().load_full(&ini).unwrap();
+        let w = loaded.warnings.iter().find(|w| w.contains("super-sampler-pattern"));
+        let w = w.unwrap_or_else(|| panic!("{pattern}: nothing said: {:?}", loaded.warnings));
+        assert!(w.contains("line 7: [Settings] super-sampler-pattern = "), "{w}");
+        assert!(w.contains(said), "{w}");
+    }
 }
 
 #[test]
@@ -368,6 +387,31 @@ fn ini_errors_name_file_line_column_key_and_the_nearest_key() {
             "missing.ini",
             "[IO]\n  scene = nowhere/x.json\n".to_string(),
             "missing.ini: line 2:11: [IO] scene: scenefile not found: tried nowhere/x.json (from the current folder) and ",
+        ),
+        (
+            "empty.ini",
+            "[IO]\n  scene =\n".to_string(),
+            "empty.ini: line 2:10: [IO] scene: is empty: give the scenefile",
+        ),
+        (
+            "folder.ini",
+            "[IO]\n  scene = /tmp\n".to_string(),
+            "folder.ini: line 2:11: [IO] scene: /tmp is a folder, not a scenefile (.json)",
+        ),
+        (
+            "quote.ini",
+            format!("[IO]\n  scene = {scene}\n[Settings]\n  super-sampler-pattern = \"grid\n"),
+            "quote.ini: line 4:27: [Settings] super-sampler-pattern: \"\"grid\" has a quote (\") at one end only",
+        ),
+        (
+            "jpg.ini",
+            format!("[IO]\n  scene = {scene}\n  output = out/x.jpg\n"),
+            "jpg.ini: line 3:12: [IO] output: cannot write .jpg images: use a .png file name",
+        ),
+        (
+            "long.ini",
+            format!("[IO]\n  scene = {scene}\n[Canvas]\n  width = 96{}x\n", " ".repeat(1000)),
+            "(1003 characters)",
         ),
     ];
     for (name, text, want) in cases {

@@ -484,6 +484,12 @@ fn cases() -> Vec<Case> {
             vec!["argument --sampler", "grid\\u{1b}[31m"],
         ),
         c(
+            "convert given a course .ini",
+            vec![("x.ini", b"[IO]\nscene = scene.json\n".to_vec())],
+            vec!["convert", "x.ini", "-o", "c.json"],
+            vec!["x.ini", "is a course .ini, not a scenefile", "render and validate take the .ini itself"],
+        ),
+        c(
             "convert over its own input",
             s(obj(SPHERE)),
             vec!["convert", "scene.json", "-o", "scene.json"],

@@ -169,7 +169,9 @@ impl Ini {
             let key = content[..eq].trim();
             let after = &content[eq + 1..];
             let value_col = col + eq + 1 + (after.len() - after.trim_start().len());
-            let value = unquote(after.trim());
+            let value = unquote(after.trim()).map_err(|m| {
+                Error::input(path, at(line, value_col), format!("[{}] {key}: {m}", section.unwrap_or("?")))
+            })?;
             let Some(sec) = section else {
                 return Err(Error::input(
                     path,
@@ -236,7 +238,7 @@ impl Ini {
         match e.value.to_ascii_lowercase().as_str() {
             "true" | "1" | "yes" | "on" => Ok(true),
             "false" | "0" | "no" | "off" => Ok(false),
-            v => Err(self.err(e, format!("expected true or false, found \"{v}\""))),
+            _ => Err(self.err(e, format!("expected true or false, found {}", shown(&e.value)))),
         }
     }
 
@@ -248,7 +250,7 @@ impl Ini {
         e.value.parse::<u32>().map_err(|_| {
             self.err(
                 e,
-                format!("expected a whole number ≥ 0, found \"{}\"", e.value),
+                format!("expected a whole number ≥ 0, found {}", shown(&e.value)),
             )
         })
     }
@@ -260,19 +262,42 @@ impl Ini {
             e.line,
             e.section,
             e.key,
-            e.value
+            clipped(&e.value)
         )
     }
 }
 
-/// `"x"` or `'x'` → `x`.
-fn unquote(v: &str) -> &str {
+/// `"x"` or `'x'` → `x`; a quote at one end only is a mistake.
+fn unquote(v: &str) -> std::result::Result<&str, String> {
     for q in ['"', '\''] {
         if v.len() >= 2 && v.starts_with(q) && v.ends_with(q) {
-            return &v[1..v.len() - 1];
+            return Ok(&v[1..v.len() - 1]);
+        }
+        if v.starts_with(q) || v.ends_with(q) {
+            return Err(format!(
+                "{} has a quote ({q}) at one end only",
+                shown(v)
+            ));
         }
     }
-    v
+    Ok(v)
+}
+
+/// A value as messages quote it: at most 60 characters (a value pasted by mistake may be
+/// a page long).
+fn shown(v: &str) -> String {
+    format!("\"{}\"", clipped(v))
+}
+
+/// At most 60 characters of `v`, and how long it is when it is longer.
+fn clipped(v: &str) -> String {
+    const MOST: usize = 60;
+    if v.chars().count() <= MOST {
+        v.to_string()
+    } else {
+        let head: String = v.chars().take(MOST).collect();
+        format!("{head}… ({} characters)", v.chars().count())
+    }
 }
 
 /// The course project's root for an ini: the nearest folder above it that holds
@@ -332,7 +357,19 @@ pub fn open(path: &Path, stage: Option<CourseStage>) -> Result<Loaded> {
     })?;
     // Tried against the current folder first, then the project root; the folder that
     // found the scene is also where the output goes.
+    if scene_entry.value.is_empty() {
+        return Err(ini.err(
+            scene_entry,
+            "is empty: give the scenefile, e.g. scene = scenefiles/unit_sphere.json",
+        ));
+    }
     let rel = Path::new(&scene_entry.value);
+    if let Some(dir) = [rel.to_path_buf(), root.join(rel)].into_iter().find(|p| p.is_dir()) {
+        return Err(ini.err(
+            scene_entry,
+            format!("{} is a folder, not a scenefile (.json)", dir.display()),
+        ));
+    }
     let (scene_path, base) = if rel.is_absolute() || rel.is_file() {
         (rel.to_path_buf(), PathBuf::new())
     } else if root.join(rel).is_file() {
@@ -364,6 +401,17 @@ pub fn open(path: &Path, stage: Option<CourseStage>) -> Result<Loaded> {
         st.apply(&mut scene.render);
     }
     apply(&ini, &mut scene, &mut warnings)?;
+    if let Some(e) = ini.get("IO", "output") {
+        let ext = Path::new(&e.value)
+            .extension()
+            .and_then(|x| x.to_str())
+            .map(str::to_ascii_lowercase);
+        match ext.as_deref() {
+            Some("png") => {}
+            Some(x) => return Err(ini.err(e, format!("cannot write .{x} images: use a .png file name"))),
+            None => return Err(ini.err(e, "has no extension: use a .png file name")),
+        }
+    }
     let output = ini.get("IO", "output").map(|e| {
         let p = Path::new(&e.value);
         if p.is_absolute() {
@@ -438,13 +486,31 @@ fn apply(ini: &Ini, scene: &mut Scene, warnings: &mut Vec<String>) -> Result<()>
         };
         let pattern = ini.get_any("super-sampler-pattern");
         let square = ((spp as f64).sqrt().round() as u32).pow(2) == spp;
-        let sampler = match pattern.map(|e| e.value.to_ascii_lowercase()) {
-            Some(p) if p == "random" => SamplerKind::Random,
-            Some(p) if p == "jittered" || p == "stratified" => SamplerKind::Jittered,
-            Some(p) if p == "grid" && square => SamplerKind::Grid,
+        let name = pattern.map(|e| e.value.to_ascii_lowercase());
+        let sampler = match name.as_deref() {
+            Some("random") => SamplerKind::Random,
+            Some("jittered" | "stratified") => SamplerKind::Jittered,
             _ if square => SamplerKind::Grid,
             _ => SamplerKind::Random,
         };
+        // Say so when the pattern named is not the one used.
+        if let Some(e) = pattern {
+            match name.as_deref() {
+                Some("random" | "jittered" | "stratified") => {}
+                Some("grid") if square => {}
+                Some("grid") => warnings.push(ini.note(
+                    e,
+                    &format!("{spp} samples make no square grid: random samples are used"),
+                )),
+                _ => warnings.push(ini.note(
+                    e,
+                    &format!(
+                        "not a pattern rtlab knows (grid, jittered or random): {} samples are used",
+                        sampler.name()
+                    ),
+                )),
+            }
+        }
         if let Some(e) = n {
             crate::sampling::validate_spp(sampler, spp).map_err(|m| ini.err(e, m))?;
         }
