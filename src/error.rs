@@ -20,6 +20,9 @@ pub enum Error {
     Io { path: PathBuf, msg: String },
     /// Anything else worth telling the user in one sentence.
     Other(String),
+    /// Standard output was closed by its reader (`rtlab explain … | head`): nothing more
+    /// can be said, and nothing is wrong.
+    OutputClosed,
 }
 
 pub type Result<T, E = Error> = std::result::Result<T, E>;
@@ -56,6 +59,7 @@ impl fmt::Display for Error {
             Error::Arg { arg, msg } => write!(f, "argument {arg}: {msg}"),
             Error::Io { path, msg } => write!(f, "{}: {msg}", path.display()),
             Error::Other(msg) => f.write_str(msg),
+            Error::OutputClosed => f.write_str("the output was closed by its reader"),
         }
     }
 }

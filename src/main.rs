@@ -16,6 +16,9 @@ fn main() -> ExitCode {
     match rtlab::cli::run_outcome(cli, &mut std::io::stdout().lock()) {
         Ok(rtlab::cli::Outcome::Same) => ExitCode::SUCCESS,
         Ok(rtlab::cli::Outcome::Different) => ExitCode::from(1),
+        // `rtlab explain … | head`: the reader took what it wanted; as `cat` and `grep` do
+        // when their output closes, stop without a word.
+        Err(rtlab::error::Error::OutputClosed) => ExitCode::SUCCESS,
         // Ctrl-C: 128 + SIGINT, what a shell reports for a program the signal stopped.
         Err(e) if rtlab::interrupt::requested() => {
             eprintln!("error: {}", rtlab::error::printable(&e.to_string()));

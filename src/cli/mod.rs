@@ -117,7 +117,11 @@ fn run_done(command: Command, out: &mut dyn Write) -> Result<()> {
 /// Writes to a command's output, turning a failed write (a closed pipe) into an error.
 pub fn emit(out: &mut dyn Write, text: &str) -> Result<()> {
     out.write_all(text.as_bytes())
-        .map_err(|e| Error::Other(format!("cannot write the output: {e}")))
+        .and_then(|()| out.flush())
+        .map_err(|e| match e.kind() {
+            std::io::ErrorKind::BrokenPipe => Error::OutputClosed,
+            _ => Error::Other(format!("cannot write the output: {e}")),
+        })
 }
 
 /// Parses "x,y" (or "x,y,z") lists of the command line.

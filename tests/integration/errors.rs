@@ -951,3 +951,20 @@ fn no_writer_bypasses_output_rs() {
         offenders.join("\n")
     );
 }
+
+#[test]
+fn a_reader_that_stops_early_is_not_an_error() {
+    // `rtlab explain … | head -2`: head exits, and the next write meets a closed pipe. The
+    // pipe is closed here before rtlab has loaded the scene, so its first write meets it.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_rtlab"))
+        .args(["explain", "scenes/textures.json", "--pixel", "100,100"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let o = child.wait_with_output().unwrap();
+    assert_eq!(o.status.code(), Some(0), "{}", message(&o));
+    assert_eq!(message(&o), "", "nothing to say about a closed output");
+}
