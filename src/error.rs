@@ -94,6 +94,16 @@ pub(crate) fn edit_distance(a: &str, b: &str) -> usize {
     row[b.len()]
 }
 
+/// A number as a message shows it: as written for everyday sizes, in scientific notation
+/// for the tiny and the huge (`1e-300`, not three hundred zeros).
+pub fn number(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() || (1e-4..1e15).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
 /// `msg` with its control characters escaped (`\n` as `\\n`, an escape code as `\\u{1b}`):
 /// an error is one line, and a value echoed back in it must not break the line or drive the
 /// terminal.

@@ -258,8 +258,12 @@ fn remove_old_frames(dir: &Path) -> Result<()> {
 
 /// `--forward`: photons from the lights against camera rays from the eye.
 fn forward(args: &Args, scene: &crate::scene::Scene, out: &mut dyn std::io::Write) -> Result<()> {
-    if !(args.pupil > 0.0 && args.pupil.is_finite()) {
-        return Err(Error::arg("--pupil", "must be a positive number"));
+    let most = crate::scene::json::MAX_MAGNITUDE;
+    if !(args.pupil > 0.0 && args.pupil <= most) {
+        return Err(Error::arg(
+            "--pupil",
+            format!("must be a positive number up to {most:e}, as sizes in a scene"),
+        ));
     }
     if args.photons == 0 || args.photons > 100_000_000 {
         return Err(Error::arg("--photons", "must be between 1 and 100000000"));
@@ -302,7 +306,7 @@ fn forward(args: &Args, scene: &crate::scene::Scene, out: &mut dyn std::io::Writ
          wrote {}\n",
         n.photons,
         scene.lights.len(),
-        args.pupil,
+        crate::error::number(args.pupil),
         settings.max_depth.max(1),
         n.hit_surface,
         pct(n.hit_surface),

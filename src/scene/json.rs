@@ -2,7 +2,7 @@
 //! (`objects[2].radius`) and unknown keys can be caught with a "did you mean" hint.
 //! Both scene formats (native and CS1230) read through this.
 
-use crate::error::{suggest, Error, Result};
+use crate::error::{number, suggest, Error, Result};
 use glam::{DVec2, DVec3};
 use serde_json::{Map, Value};
 use std::path::Path;
@@ -211,7 +211,7 @@ impl<'a> Node<'a> {
     pub fn positive(&self) -> Result<f64> {
         let x = self.f64()?;
         if x <= 0.0 {
-            return Err(self.err(format!("must be greater than 0, found {x}")));
+            return Err(self.err(format!("must be greater than 0, found {}", number(x))));
         }
         if x < MIN_SIZE {
             return Err(self.err(format!(
@@ -223,17 +223,17 @@ impl<'a> Node<'a> {
     pub fn non_negative(&self) -> Result<f64> {
         let x = self.f64()?;
         if x < 0.0 {
-            return Err(self.err(format!("must not be negative, found {x}")));
+            return Err(self.err(format!("must not be negative, found {}", number(x))));
         }
         Ok(x)
     }
     pub fn u32(&self) -> Result<u32> {
         let x = self.f64()?;
         if x < 0.0 || x.fract() != 0.0 {
-            return Err(self.err(format!("expected a whole number ≥ 0, found {x}")));
+            return Err(self.err(format!("expected a whole number ≥ 0, found {}", number(x))));
         }
         if x > u32::MAX as f64 {
-            return Err(self.err(format!("{x} is too large: at most {} here", u32::MAX)));
+            return Err(self.err(format!("{} is too large: at most {} here", number(x), u32::MAX)));
         }
         Ok(x as u32)
     }
@@ -297,8 +297,10 @@ impl<'a> Node<'a> {
         let d = self.vec3()?;
         if d.length_squared() == 0.0 || !d.length_squared().is_finite() {
             return Err(self.err(format!(
-                "a direction must not be the zero vector, found [{}, {}, {}]",
-                d.x, d.y, d.z
+                "a direction must not be the zero vector (nor so short that its length squares to 0), found [{}, {}, {}]",
+                number(d.x),
+                number(d.y),
+                number(d.z)
             )));
         }
         Ok(d)

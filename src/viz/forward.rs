@@ -110,7 +110,7 @@ pub fn figure(
     let lines = [
         format!(
             "forward: {} lost to the sky, {} absorbed, {} passed the eye outside the view; {} ray segments; eye pupil radius {}",
-            n.escaped, n.absorbed, n.outside_view, n.rays, pupil
+            n.escaped, n.absorbed, n.outside_view, n.rays, crate::error::number(pupil)
         ),
         format!(
             "backward: {total_rays} rays in all (camera, shadow, reflection and refraction rays)"

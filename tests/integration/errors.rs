@@ -265,6 +265,12 @@ fn cases() -> Vec<Case> {
             vec!["objects[0].normal", "must not be the zero vector"],
         ),
         c(
+            "a direction too short to square",
+            s(obj(r#"{"shape": "plane", "normal": [0, 1e-300, 0]}"#)),
+            r(),
+            vec!["objects[0].normal", "must not be the zero vector", "found [0, 1e-300, 0]"],
+        ),
+        c(
             "zero-length light direction",
             s(
                 br#"{"camera": {"position": [0, 0, 5]}, "lights": [{"type": "directional", "direction": [0, 0, 0]}]}"#
