@@ -111,9 +111,24 @@ pub fn parse_pixel(s: &str, width: u32, height: u32) -> Result<(u32, u32)> {
     if parts.len() != 2 {
         return Err(bad());
     }
-    let x: i64 = parts[0].parse().map_err(|_| bad())?;
-    let y: i64 = parts[1].parse().map_err(|_| bad())?;
+    // A whole number too long for i64 is still a whole number: far outside the image.
+    let whole = |p: &str| -> Result<i64> {
+        let digits = p.strip_prefix('-').unwrap_or(p);
+        match p.parse::<i64>() {
+            Ok(v) => Ok(v),
+            Err(_) if !digits.is_empty() && digits.bytes().all(|c| c.is_ascii_digit()) => {
+                Ok(if p.starts_with('-') { i64::MIN } else { i64::MAX })
+            }
+            Err(_) => Err(bad()),
+        }
+    };
+    let (x, y) = (whole(parts[0])?, whole(parts[1])?);
     if x < 0 || y < 0 || x >= width as i64 || y >= height as i64 {
+        let show = |v: i64, p: &str| match v {
+            i64::MIN | i64::MAX => p.to_string(),
+            v => v.to_string(),
+        };
+        let (x, y) = (show(x, parts[0]), show(y, parts[1]));
         return Err(Error::arg(
             "--pixel",
             format!(
