@@ -145,6 +145,8 @@ pub fn load(path: &Path, value: &Value) -> Result<Scene> {
     };
     let top = root.object(TOP)?;
     top.check_keys()?;
+    // Read by people, not by the renderer: still held to the schema (a string).
+    top.opt("description", |n| n.str().map(|_| ()))?;
     let base = path.parent().unwrap_or(Path::new("."));
 
     let camera = top.req("camera", |n| camera(&n))?;
