@@ -119,11 +119,12 @@ pub fn parse(ctx: &mut Ctx, n: &Node) -> Result<Prim> {
         let file = o.req("meshFile", |n| n.str().map(String::from))?;
         let p = resolve(&ctx.base, &file);
         if !p.is_file() {
+            let why = if p.is_dir() { "is a folder, not a mesh file" } else { "mesh file not found" };
             return Err(Error::input(
                 n.file,
                 o.child_path("meshFile"),
                 format!(
-                    "mesh file not found: {} (paths are relative to the folder above the scene file's, as in the course's reader)",
+                    "{why}: {} (paths are relative to the folder above the scene file's, as in the course's reader)",
                     p.display()
                 ),
             ));
@@ -217,8 +218,9 @@ fn texture(
                 p = found;
             }
             None => {
+                let why = if p.is_dir() { "is a folder, not an image" } else { "texture not found" };
                 ctx.warnings.push(format!(
-                    "{}: {at}: texture not found: {} (nor in a textures/ folder beside or above the scenefile; drawn without it, as the course's renderer does)",
+                    "{}: {at}: {why}: {} (nor in a textures/ folder beside or above the scenefile; drawn without it, as the course's renderer does)",
                     n.file.display(),
                     p.display()
                 ));
