@@ -98,7 +98,7 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
             return Err(Error::arg(
                 "--sample",
                 if own == 0 {
-                    format!("pixel ({x}, {y}) traces no samples of its own (it is filled in by --subsample)")
+                    crate::report::explain::not_traced(x, y)
                 } else {
                     format!(
                         "sample {k} does not exist: pixel ({x}, {y}) has {own} sample(s), 0..{}",
@@ -117,8 +117,8 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
             Error::arg(
                 "--diagram",
                 format!(
-                    "pixel ({x}, {y}) traces no samples of its own (it is filled in by \
-                     --subsample): no ray to draw; pick a traced pixel"
+                    "{}: no ray to draw; pick a traced pixel",
+                    crate::report::explain::not_traced(x, y)
                 ),
             )
         })?;

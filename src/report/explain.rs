@@ -100,6 +100,11 @@ pub fn explain(scene: &Scene, x: u32, y: u32) -> Explanation {
 }
 
 /// Parses and checks `--pixel X,Y` against the image size.
+/// Why pixel (x, y) has no ray to show: `--subsample` fills it in from its neighbours.
+pub fn not_traced(x: u32, y: u32) -> String {
+    format!("pixel ({x}, {y}) traces no samples of its own (it is filled in by --subsample)")
+}
+
 pub fn parse_pixel(s: &str, width: u32, height: u32) -> Result<(u32, u32)> {
     let parts: Vec<&str> = s.split(',').map(str::trim).collect();
     let bad = || {

@@ -265,8 +265,8 @@ async fn diagram(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Re
             return Err(Error::arg(
                 "x/y",
                 format!(
-                    "pixel ({x}, {y}) traces no samples of its own (it is filled in by \
-                     --subsample): no ray to draw; pick a traced pixel"
+                    "{}: no ray to draw; pick a traced pixel",
+                    crate::report::explain::not_traced(x, y)
                 ),
             )
             .into());
