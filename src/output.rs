@@ -84,6 +84,15 @@ pub fn check_extension(path: &Path, arg: &str, ext: &str, what: &str) -> Result<
             arg,
             format!("cannot write .{e} {what}: use a .{ext} file name"),
         )),
+        None if path
+            .file_name()
+            .is_some_and(|n| n.to_string_lossy().eq_ignore_ascii_case(&format!(".{ext}"))) =>
+        {
+            Err(Error::arg(
+                arg,
+                format!("{} is only an extension: give the file a name, e.g. out.{ext}", path.display()),
+            ))
+        }
         None => Err(Error::arg(
             arg,
             format!("{} has no extension: use a .{ext} file name", path.display()),
@@ -131,9 +140,9 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     Ok(())
 }
 
-/// Why an I/O operation failed, without the temporary file's random name (which would make
-/// the message differ from run to run).
-fn reason(e: &std::io::Error) -> String {
+/// Why an I/O operation failed, in words: without the temporary file's random name (which
+/// would make the message differ from run to run) and without the system's error number.
+pub fn reason(e: &std::io::Error) -> String {
     use std::io::ErrorKind as K;
     match e.kind() {
         K::PermissionDenied => "permission denied".into(),
@@ -141,7 +150,15 @@ fn reason(e: &std::io::Error) -> String {
         K::ReadOnlyFilesystem => "read-only file system".into(),
         K::StorageFull => "no space left on device".into(),
         _ => match e.raw_os_error() {
-            Some(code) => std::io::Error::from_raw_os_error(code).to_string(),
+            // "Not a directory (os error 20)" → "not a directory".
+            Some(code) => {
+                let text = std::io::Error::from_raw_os_error(code).to_string();
+                let words = text.split(" (os error").next().unwrap_or(&text);
+                let mut c = words.chars();
+                c.next()
+                    .map(|f| f.to_lowercase().chain(c).collect())
+                    .unwrap_or_default()
+            }
             None => e.kind().to_string(),
         },
     }

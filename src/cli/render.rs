@@ -200,7 +200,7 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
             };
             if let Some(dir) = o.parent().filter(|d| !d.as_os_str().is_empty()) {
                 std::fs::create_dir_all(dir)
-                    .map_err(|e| Error::io(dir, format!("cannot create the output folder: {e}")))?;
+                    .map_err(|e| Error::io(dir, format!("cannot create the output folder: {}", crate::output::reason(&e))))?;
             }
             check_png(&o, "the ini's [IO] output")?;
             o

@@ -175,7 +175,7 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
     } else {
         let dir = &args.output;
         std::fs::create_dir_all(dir)
-            .map_err(|e| Error::io(dir, format!("cannot create the folder: {e}")))?;
+            .map_err(|e| Error::io(dir, format!("cannot create the folder: {}", crate::output::reason(&e))))?;
         // Every file made in memory and every name checked before the first is written, so a
         // name that cannot be written (a folder in the way) leaves the folder as it was.
         let mut files = Vec::new();
@@ -272,7 +272,7 @@ fn forward(args: &Args, scene: &crate::scene::Scene, out: &mut dyn std::io::Writ
         args.output.clone()
     } else {
         std::fs::create_dir_all(&args.output)
-            .map_err(|e| Error::io(&args.output, format!("cannot create the folder: {e}")))?;
+            .map_err(|e| Error::io(&args.output, format!("cannot create the folder: {}", crate::output::reason(&e))))?;
         args.output.join("forward.png")
     };
     let settings = &scene.render;

@@ -460,6 +460,18 @@ fn cases() -> Vec<Case> {
             vec!["argument -o", "cannot write .jpg", "use a .png"],
         ),
         c(
+            "output name that is only an extension",
+            s(obj(SPHERE)),
+            vec!["render", "scene.json", "-o", ".png", "--quiet"],
+            vec!["argument -o", ".png is only an extension", "e.g. out.png"],
+        ),
+        c(
+            "output folder under a file",
+            vec![("scene.json", obj(SPHERE)), ("notes.txt", b"x".to_vec())],
+            vec!["steps", "scene.json", "-o", "notes.txt/steps", "--quiet"],
+            vec!["notes.txt/steps", "cannot create the folder: not a directory"],
+        ),
+        c(
             "output over the scene itself",
             vec![("scene.png", obj(SPHERE))],
             vec!["render", "scene.png", "-o", "./scene.png", "--quiet"],
