@@ -90,12 +90,18 @@ pub fn check_extension(path: &Path, arg: &str, ext: &str, what: &str) -> Result<
         {
             Err(Error::arg(
                 arg,
-                format!("{} is only an extension: give the file a name, e.g. out.{ext}", path.display()),
+                format!(
+                    "{} is only an extension: give the file a name, e.g. out.{ext}",
+                    path.display()
+                ),
             ))
         }
         None => Err(Error::arg(
             arg,
-            format!("{} has no extension: use a .{ext} file name", path.display()),
+            format!(
+                "{} has no extension: use a .{ext} file name",
+                path.display()
+            ),
         )),
     }
 }

@@ -26,7 +26,11 @@ pub struct Args {
 
 pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
     check_extension(&args.output, "-o", "json", "scenes")?;
-    check_not_input(&args.output, "-o", &[(&args.scene, "the scenefile being converted")])?;
+    check_not_input(
+        &args.output,
+        "-o",
+        &[(&args.scene, "the scenefile being converted")],
+    )?;
     if crate::scene::cs1230::ini::is_ini(&args.scene) {
         return Err(Error::input(
             &args.scene,

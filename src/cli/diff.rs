@@ -68,7 +68,10 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<Outcome> {
     }
     if let Some(o) = &args.output {
         check_png(o, "-o")?;
-        let mut inputs = vec![(args.scene.as_path(), "the scene"), (&args.yours, "your image")];
+        let mut inputs = vec![
+            (args.scene.as_path(), "the scene"),
+            (&args.yours, "your image"),
+        ];
         if let Some(r) = &args.reference {
             inputs.push((r, "the reference image"));
         }

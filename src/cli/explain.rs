@@ -113,15 +113,19 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
     }
     if let Some(path) = &args.diagram {
         // The first sample of the pixel itself (the one --sample chose, if given).
-        let s = e.samples.iter().find(|s| s.pixel == [x, y]).ok_or_else(|| {
-            Error::arg(
-                "--diagram",
-                format!(
-                    "{}: no ray to draw; pick a traced pixel",
-                    crate::report::explain::not_traced(x, y)
-                ),
-            )
-        })?;
+        let s = e
+            .samples
+            .iter()
+            .find(|s| s.pixel == [x, y])
+            .ok_or_else(|| {
+                Error::arg(
+                    "--diagram",
+                    format!(
+                        "{}: no ray to draw; pick a traced pixel",
+                        crate::report::explain::not_traced(x, y)
+                    ),
+                )
+            })?;
         let opts = crate::viz::slice::SliceOptions {
             plane,
             caption: Some(format!("pixel ({x}, {y}), sample {}", s.index)),

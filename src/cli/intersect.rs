@@ -18,8 +18,8 @@ use glam::DVec3;
 use std::fmt::Write as _;
 
 // The arguments and their parsing have their own module; re-exported where they used to live.
-pub use super::intersect_args::{shape_and_ray, Args, SHAPES};
 use super::intersect_args::{bounded_vec3, direction};
+pub use super::intersect_args::{shape_and_ray, Args, SHAPES};
 
 // The report is a library type; re-exported here where it used to live.
 pub use crate::report::intersect::{

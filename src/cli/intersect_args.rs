@@ -3,8 +3,8 @@
 
 use super::parse_list;
 use crate::error::{Error, Result};
-use crate::scene::json::{MAX_MAGNITUDE, MIN_SIZE};
 use crate::math::Ray;
+use crate::scene::json::{MAX_MAGNITUDE, MIN_SIZE};
 use crate::shapes::{Cone, Cuboid, Cylinder, Plane, Shape, Sphere, Triangle};
 use glam::DVec3;
 use std::path::PathBuf;

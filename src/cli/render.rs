@@ -199,8 +199,15 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
                 o.with_file_name(format!("{stem}{suffix}.png"))
             };
             if let Some(dir) = o.parent().filter(|d| !d.as_os_str().is_empty()) {
-                std::fs::create_dir_all(dir)
-                    .map_err(|e| Error::io(dir, format!("cannot create the output folder: {}", crate::output::reason(&e))))?;
+                std::fs::create_dir_all(dir).map_err(|e| {
+                    Error::io(
+                        dir,
+                        format!(
+                            "cannot create the output folder: {}",
+                            crate::output::reason(&e)
+                        ),
+                    )
+                })?;
             }
             check_png(&o, "the ini's [IO] output")?;
             o

@@ -122,7 +122,11 @@ pub fn parse_pixel(s: &str, width: u32, height: u32) -> Result<(u32, u32)> {
         match p.parse::<i64>() {
             Ok(v) => Ok(v),
             Err(_) if !digits.is_empty() && digits.bytes().all(|c| c.is_ascii_digit()) => {
-                Ok(if p.starts_with('-') { i64::MIN } else { i64::MAX })
+                Ok(if p.starts_with('-') {
+                    i64::MIN
+                } else {
+                    i64::MAX
+                })
             }
             Err(_) => Err(bad()),
         }

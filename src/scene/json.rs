@@ -233,7 +233,11 @@ impl<'a> Node<'a> {
             return Err(self.err(format!("expected a whole number ≥ 0, found {}", number(x))));
         }
         if x > u32::MAX as f64 {
-            return Err(self.err(format!("{} is too large: at most {} here", number(x), u32::MAX)));
+            return Err(self.err(format!(
+                "{} is too large: at most {} here",
+                number(x),
+                u32::MAX
+            )));
         }
         Ok(x as u32)
     }

@@ -48,7 +48,9 @@ pub fn router(state: Arc<State>) -> Router {
             "/api/diff",
             axum::routing::post(super::diff::diff)
                 .fallback(super::security::not_post)
-                .layer(axum::extract::DefaultBodyLimit::max(super::diff::MAX_UPLOAD)),
+                .layer(axum::extract::DefaultBodyLimit::max(
+                    super::diff::MAX_UPLOAD,
+                )),
         )
         .fallback(asset)
         .layer(axum::middleware::from_fn_with_state(
@@ -275,7 +277,10 @@ async fn diagram(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Re
         if let Some(k) = highlight.filter(|&k| k >= rays) {
             return Err(Error::arg(
                 "highlight",
-                format!("ray {k} does not exist (pixel ({x}, {y})'s tree has {rays}, 0..{})", rays - 1),
+                format!(
+                    "ray {k} does not exist (pixel ({x}, {y})'s tree has {rays}, 0..{})",
+                    rays - 1
+                ),
             )
             .into());
         }

@@ -336,8 +336,16 @@ fn ini_keys_reach_the_settings() {
     // A pattern rtlab does not know, or a grid of a count that is not square: the sampler
     // used is said, with the ini's line.
     for (count, pattern, said) in [
-        (9, "poisson", "not a pattern rtlab knows (grid, jittered or random): grid samples are used"),
-        (3, "grid", "3 samples make no square grid: random samples are used"),
+        (
+            9,
+            "poisson",
+            "not a pattern rtlab knows (grid, jittered or random): grid samples are used",
+        ),
+        (
+            3,
+            "grid",
+            "3 samples make no square grid: random samples are used",
+        ),
     ] {
         let ini = write_tmp(
             &format!("course/ss/{pattern}.ini"),
@@ -347,9 +355,15 @@ fn ini_keys_reach_the_settings() {
             ),
         );
         let loaded = RenderArgs::default().load_full(&ini).unwrap();
-        let w = loaded.warnings.iter().find(|w| w.contains("super-sampler-pattern"));
+        let w = loaded
+            .warnings
+            .iter()
+            .find(|w| w.contains("super-sampler-pattern"));
         let w = w.unwrap_or_else(|| panic!("{pattern}: nothing said: {:?}", loaded.warnings));
-        assert!(w.contains("line 7: [Settings] super-sampler-pattern = "), "{w}");
+        assert!(
+            w.contains("line 7: [Settings] super-sampler-pattern = "),
+            "{w}"
+        );
         assert!(w.contains(said), "{w}");
     }
 }

@@ -335,14 +335,20 @@ fn a_cancelled_render_skips_its_tiles_without_planning_them() {
     let cancel = rtlab::interrupt::Cancel::new();
     cancel.cancel();
     scene.render.cancel = cancel;
-    for traversal in [rtlab::accel::Traversal::Bundle, rtlab::accel::Traversal::Single] {
+    for traversal in [
+        rtlab::accel::Traversal::Bundle,
+        rtlab::accel::Traversal::Single,
+    ] {
         let mut settings = scene.render.clone();
         settings.traversal = traversal;
         let t0 = Instant::now();
         let out = rtlab::sampling::render(&scene, &settings, false, None);
         assert!(out.cancelled);
         let took = t0.elapsed();
-        assert!(took < Duration::from_secs(3), "{traversal:?}: took {took:?} to give up");
+        assert!(
+            took < Duration::from_secs(3),
+            "{traversal:?}: took {took:?} to give up"
+        );
     }
 }
 

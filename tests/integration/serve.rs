@@ -439,14 +439,31 @@ fn bad_parameters_get_the_clis_one_line_messages() {
             t.starts_with("error: ") && t.ends_with('\n') && t.lines().count() == 1,
             "{q}: {t:?}"
         );
-        assert!(!t.contains('\u{1b}'), "{q}: a terminal escape code echoed back: {t:?}");
+        assert!(
+            !t.contains('\u{1b}'),
+            "{q}: a terminal escape code echoed back: {t:?}"
+        );
     }
     let r = s.get("/api/render.png?width=160&height=120&pass=8");
-    assert!(r.text().contains("pass 8, 160×120 pixels × 4096 spp, is"), "{}", r.text());
-    assert!(r.text().contains("use rtlab render --passes 8"), "{}", r.text());
+    assert!(
+        r.text().contains("pass 8, 160×120 pixels × 4096 spp, is"),
+        "{}",
+        r.text()
+    );
+    assert!(
+        r.text().contains("use rtlab render --passes 8"),
+        "{}",
+        r.text()
+    );
     let r = s.get("/api/explain?x=1,2&y=3");
-    assert_eq!(r.text(), "error: argument x: expected a whole number, found \"1,2\"\n");
-    let r = s.get(&format!("/api/render.png?subsample=8&stream={}", "s".repeat(65)));
+    assert_eq!(
+        r.text(),
+        "error: argument x: expected a whole number, found \"1,2\"\n"
+    );
+    let r = s.get(&format!(
+        "/api/render.png?subsample=8&stream={}",
+        "s".repeat(65)
+    ));
     assert_eq!(r.status, 400, "{}", r.text());
     // Options the command line takes twice may repeat in a query too.
     let r = s.get("/api/explain?x=1&y=1&mistake=shadow-acne&mistake=normal-not-normalized");
@@ -516,7 +533,10 @@ fn hostile_requests_are_refused() {
     assert_eq!(r.status, 405);
     let r = s.get("/api/diff");
     assert_eq!(r.status, 405);
-    assert_eq!(r.text(), "error: only GET requests (and POST /api/diff with a PNG)\n");
+    assert_eq!(
+        r.text(),
+        "error: only GET requests (and POST /api/diff with a PNG)\n"
+    );
 
     // A page of another site may make the browser send requests here: refused, by what the
     // browser says of where the request comes from. The page's own requests pass.

@@ -585,8 +585,16 @@ fn steps_replaces_its_own_frames_and_nothing_else() {
     let b = blocked.to_str().unwrap();
     let o = rtlab(&[&["steps", "scenes/spheres.json", "-o", b][..], &small[..]].concat());
     assert_eq!(o.status.code(), Some(2));
-    assert!(stderr(&o).contains("index.json is a directory"), "{}", stderr(&o));
-    assert_eq!(std::fs::read_dir(&blocked).unwrap().count(), 1, "frames were written");
+    assert!(
+        stderr(&o).contains("index.json is a directory"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(
+        std::fs::read_dir(&blocked).unwrap().count(),
+        1,
+        "frames were written"
+    );
     let _ = std::fs::remove_dir_all(&dir);
     let _ = std::fs::remove_dir_all(&blocked);
 }

@@ -170,7 +170,11 @@ impl Ini {
             let after = &content[eq + 1..];
             let value_col = col + eq + 1 + (after.len() - after.trim_start().len());
             let value = unquote(after.trim()).map_err(|m| {
-                Error::input(path, at(line, value_col), format!("[{}] {key}: {m}", section.unwrap_or("?")))
+                Error::input(
+                    path,
+                    at(line, value_col),
+                    format!("[{}] {key}: {m}", section.unwrap_or("?")),
+                )
             })?;
             let Some(sec) = section else {
                 return Err(Error::input(
@@ -238,7 +242,10 @@ impl Ini {
         match e.value.to_ascii_lowercase().as_str() {
             "true" | "1" | "yes" | "on" => Ok(true),
             "false" | "0" | "no" | "off" => Ok(false),
-            _ => Err(self.err(e, format!("expected true or false, found {}", shown(&e.value)))),
+            _ => Err(self.err(
+                e,
+                format!("expected true or false, found {}", shown(&e.value)),
+            )),
         }
     }
 
@@ -274,10 +281,7 @@ fn unquote(v: &str) -> std::result::Result<&str, String> {
             return Ok(&v[1..v.len() - 1]);
         }
         if v.starts_with(q) || v.ends_with(q) {
-            return Err(format!(
-                "{} has a quote ({q}) at one end only",
-                shown(v)
-            ));
+            return Err(format!("{} has a quote ({q}) at one end only", shown(v)));
         }
     }
     Ok(v)
@@ -364,7 +368,10 @@ pub fn open(path: &Path, stage: Option<CourseStage>) -> Result<Loaded> {
         ));
     }
     let rel = Path::new(&scene_entry.value);
-    if let Some(dir) = [rel.to_path_buf(), root.join(rel)].into_iter().find(|p| p.is_dir()) {
+    if let Some(dir) = [rel.to_path_buf(), root.join(rel)]
+        .into_iter()
+        .find(|p| p.is_dir())
+    {
         return Err(ini.err(
             scene_entry,
             format!("{} is a folder, not a scenefile (.json)", dir.display()),
@@ -408,7 +415,9 @@ pub fn open(path: &Path, stage: Option<CourseStage>) -> Result<Loaded> {
             .map(str::to_ascii_lowercase);
         match ext.as_deref() {
             Some("png") => {}
-            Some(x) => return Err(ini.err(e, format!("cannot write .{x} images: use a .png file name"))),
+            Some(x) => {
+                return Err(ini.err(e, format!("cannot write .{x} images: use a .png file name")))
+            }
             None => return Err(ini.err(e, "has no extension: use a .png file name")),
         }
     }

@@ -119,7 +119,11 @@ pub fn parse(ctx: &mut Ctx, n: &Node) -> Result<Prim> {
         let file = o.req("meshFile", |n| n.str().map(String::from))?;
         let p = resolve(&ctx.base, &file);
         if !p.is_file() {
-            let why = if p.is_dir() { "is a folder, not a mesh file" } else { "mesh file not found" };
+            let why = if p.is_dir() {
+                "is a folder, not a mesh file"
+            } else {
+                "mesh file not found"
+            };
             return Err(Error::input(
                 n.file,
                 o.child_path("meshFile"),
@@ -218,7 +222,11 @@ fn texture(
                 p = found;
             }
             None => {
-                let why = if p.is_dir() { "is a folder, not an image" } else { "texture not found" };
+                let why = if p.is_dir() {
+                    "is a folder, not an image"
+                } else {
+                    "texture not found"
+                };
                 ctx.warnings.push(format!(
                     "{}: {at}: {why}: {} (nor in a textures/ folder beside or above the scenefile; drawn without it, as the course's renderer does)",
                     n.file.display(),
