@@ -106,6 +106,12 @@ pub fn check_extension(path: &Path, arg: &str, ext: &str, what: &str) -> Result<
     }
 }
 
+/// Creates `dir` and the folders above it, failing with a message in words.
+pub fn create_folder(dir: &Path) -> Result<()> {
+    std::fs::create_dir_all(dir)
+        .map_err(|e| Error::io(dir, format!("cannot create the folder: {}", reason(&e))))
+}
+
 fn parent(path: &Path) -> &Path {
     match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
@@ -148,7 +154,7 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
 
 /// Why an I/O operation failed, in words: without the temporary file's random name (which
 /// would make the message differ from run to run) and without the system's error number.
-pub fn reason(e: &std::io::Error) -> String {
+fn reason(e: &std::io::Error) -> String {
     use std::io::ErrorKind as K;
     match e.kind() {
         K::PermissionDenied => "permission denied".into(),

@@ -199,15 +199,7 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
                 o.with_file_name(format!("{stem}{suffix}.png"))
             };
             if let Some(dir) = o.parent().filter(|d| !d.as_os_str().is_empty()) {
-                std::fs::create_dir_all(dir).map_err(|e| {
-                    Error::io(
-                        dir,
-                        format!(
-                            "cannot create the output folder: {}",
-                            crate::output::reason(&e)
-                        ),
-                    )
-                })?;
+                crate::output::create_folder(dir)?;
             }
             check_png(&o, "the ini's [IO] output")?;
             o

@@ -174,12 +174,7 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
         text += &format!("wrote {}\n", args.output.display());
     } else {
         let dir = &args.output;
-        std::fs::create_dir_all(dir).map_err(|e| {
-            Error::io(
-                dir,
-                format!("cannot create the folder: {}", crate::output::reason(&e)),
-            )
-        })?;
+        crate::output::create_folder(dir)?;
         // Every file made in memory and every name checked before the first is written, so a
         // name that cannot be written (a folder in the way) leaves the folder as it was.
         let mut files = Vec::new();
@@ -275,12 +270,7 @@ fn forward(args: &Args, scene: &crate::scene::Scene, out: &mut dyn std::io::Writ
     let path = if is_png(&args.output) {
         args.output.clone()
     } else {
-        std::fs::create_dir_all(&args.output).map_err(|e| {
-            Error::io(
-                &args.output,
-                format!("cannot create the folder: {}", crate::output::reason(&e)),
-            )
-        })?;
+        crate::output::create_folder(&args.output)?;
         args.output.join("forward.png")
     };
     let settings = &scene.render;
