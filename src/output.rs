@@ -73,35 +73,30 @@ fn identity(path: &Path) -> Option<std::path::PathBuf> {
 /// Refuses output names without the extension of what is written (`ext`, lower case, and
 /// `what` it is, for the message), then checks that the name can be written.
 pub fn check_extension(path: &Path, arg: &str, ext: &str, what: &str) -> Result<()> {
+    match wrong_extension(path, ext, what) {
+        Some(msg) if !path.is_dir() => Err(Error::arg(arg, msg)),
+        _ => check_writable(path, arg),
+    }
+}
+
+/// What is wrong with `path` as the name of a file of `what` with extension `ext`, if
+/// anything (a course ini's `[IO] output` is checked with it too).
+pub fn wrong_extension(path: &Path, ext: &str, what: &str) -> Option<String> {
+    let name = path.file_name().map(|n| n.to_string_lossy().to_string());
     match path
         .extension()
         .and_then(|e| e.to_str())
         .map(|e| e.to_ascii_lowercase())
     {
-        Some(e) if e == ext => check_writable(path, arg),
-        _ if path.is_dir() => check_writable(path, arg),
-        Some(e) => Err(Error::arg(
-            arg,
-            format!("cannot write .{e} {what}: use a .{ext} file name"),
+        Some(e) if e == ext => None,
+        Some(e) => Some(format!("cannot write .{e} {what}: use a .{ext} file name")),
+        None if name.is_some_and(|n| n.eq_ignore_ascii_case(&format!(".{ext}"))) => Some(format!(
+            "{} is only an extension: give the file a name, e.g. out.{ext}",
+            path.display()
         )),
-        None if path
-            .file_name()
-            .is_some_and(|n| n.to_string_lossy().eq_ignore_ascii_case(&format!(".{ext}"))) =>
-        {
-            Err(Error::arg(
-                arg,
-                format!(
-                    "{} is only an extension: give the file a name, e.g. out.{ext}",
-                    path.display()
-                ),
-            ))
-        }
-        None => Err(Error::arg(
-            arg,
-            format!(
-                "{} has no extension: use a .{ext} file name",
-                path.display()
-            ),
+        None => Some(format!(
+            "{} has no extension: use a .{ext} file name",
+            path.display()
         )),
     }
 }

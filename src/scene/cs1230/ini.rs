@@ -409,16 +409,8 @@ pub fn open(path: &Path, stage: Option<CourseStage>) -> Result<Loaded> {
     }
     apply(&ini, &mut scene, &mut warnings)?;
     if let Some(e) = ini.get("IO", "output") {
-        let ext = Path::new(&e.value)
-            .extension()
-            .and_then(|x| x.to_str())
-            .map(str::to_ascii_lowercase);
-        match ext.as_deref() {
-            Some("png") => {}
-            Some(x) => {
-                return Err(ini.err(e, format!("cannot write .{x} images: use a .png file name")))
-            }
-            None => return Err(ini.err(e, "has no extension: use a .png file name")),
+        if let Some(msg) = crate::output::wrong_extension(Path::new(&e.value), "png", "images") {
+            return Err(ini.err(e, msg));
         }
     }
     let output = ini.get("IO", "output").map(|e| {
