@@ -3,11 +3,12 @@
 //! prints for the same options (or, with `format=png`, its `-o` figure). The upload is read
 //! from the request, never from a path, and is bounded by [`MAX_UPLOAD`].
 
-use super::routes::{query, run, Answer, St};
+use super::routes::{query, run, Answer, Fail, St};
 use crate::diff::{self, report, Options};
 use crate::error::Error;
 use axum::body::Bytes;
 use axum::extract::RawQuery;
+use axum::http::StatusCode;
 use axum::response::Response;
 use std::path::Path;
 
@@ -62,7 +63,10 @@ pub async fn diff(
             .into());
         }
         let scene = st.scene(&q.words)?;
-        let yours = diff::png::decode(Path::new("your image"), &body)?;
+        // A bad upload is a bad request (400), like an image of the wrong size, not a scene
+        // that does not load (422).
+        let yours = diff::png::decode(Path::new("your image"), &body)
+            .map_err(|e| Fail::Status(StatusCode::BAD_REQUEST, e.to_string()))?;
         let out = crate::sampling::render(&scene, &scene.render, false, None);
         let expected = out.image.to_rgb8_for(&scene.render);
         let opts = Options {

@@ -697,6 +697,12 @@ fn cases() -> Vec<Case> {
             vec!["/dev/zero: cannot read scene: larger than 64 MiB, the most such a file may hold"],
         ),
         c(
+            "an image to compare that never ends (a device)",
+            s(obj(SPHERE)),
+            vec!["diff", "scene.json", "/dev/zero"],
+            vec!["/dev/zero: is not an image; expected an 8-bit RGB PNG"],
+        ),
+        c(
             "an empty --mistake",
             s(obj(SPHERE)),
             vec!["render", "scene.json", "--mistake="],
@@ -892,11 +898,16 @@ fn table(rows: &[(String, String, String)]) -> String {
         String::from("| Bad input | Command | What rtlab says (exit status 2) |\n|---|---|---|\n");
     for (kind, cmd, msg) in rows {
         let esc = |s: &str| s.replace('|', "\\|");
+        // A message that quotes a command in backticks needs a longer fence.
+        let code = |s: &str| match s.contains('`') {
+            true => format!("`` {} ``", esc(s)),
+            false => format!("`{}`", esc(s)),
+        };
         t += &format!(
-            "| {} | `rtlab {}` | `{}` |\n",
+            "| {} | {} | {} |\n",
             esc(kind),
-            esc(cmd),
-            esc(msg)
+            code(&format!("rtlab {cmd}")),
+            code(msg)
         );
     }
     t
