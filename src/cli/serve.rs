@@ -7,8 +7,9 @@ use super::RenderArgs;
 use crate::error::{Error, Result};
 use crate::server::{Flags, Loader, OptionInfo, Options};
 use clap::{CommandFactory, Parser};
+use std::collections::HashSet;
 use std::path::PathBuf;
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
 #[derive(Debug, clap::Args)]
 pub struct Args {
@@ -42,8 +43,11 @@ pub struct RequestArgs {
     pub render: RenderArgs,
 }
 
-/// The loader of `rtlab serve`: `base` options, then a request's words (`--spp=4`).
+/// The loader of `rtlab serve`: `base` options, then a request's words (`--spp=4`). Each
+/// load's warnings go to stderr the first time they are seen (the page loads the scene again
+/// for every change of options, and on every save).
 pub fn loader(scene: PathBuf, base: RenderArgs) -> Loader {
+    let seen = Arc::new(Mutex::new(HashSet::<String>::new()));
     Arc::new(move |words: &[String]| {
         let mut a = RequestArgs {
             render: base.clone(),
@@ -63,7 +67,20 @@ pub fn loader(scene: PathBuf, base: RenderArgs) -> Loader {
                 "is not a regular file (a pipe or a device): the server needs a scene file it can read again",
             ));
         }
-        let s = a.render.load(&scene)?;
+        let loaded = a.render.load_full(&scene)?;
+        let fresh: Vec<String> = {
+            let mut seen = seen.lock().unwrap_or_else(|e| e.into_inner());
+            if seen.len() > 1000 {
+                seen.clear(); // a bound on what a long session keeps
+            }
+            loaded
+                .warnings
+                .into_iter()
+                .filter(|w| seen.insert(w.clone()))
+                .collect()
+        };
+        a.render.warn(&fresh);
+        let s = loaded.scene;
         a.render.check_memory(&s, &scene, s.render.spp)?;
         Ok(s)
     })
@@ -119,12 +136,6 @@ pub fn option_infos() -> Vec<OptionInfo> {
 }
 
 pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
-    if let Some(h) = &args.host {
-        eprintln!(
-            "warning: listening on {h}: other machines that can reach this address can use the server \
-             (it answers only requests addressed to {h} or to localhost)"
-        );
-    }
     let running = crate::server::start(Options {
         loader: loader(args.scene.clone(), args.render.clone()),
         flags: flags(args.render.clone()),
@@ -133,6 +144,18 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
         host: args.host.clone(),
         port: args.port,
     })?;
+    // Warned once the address is bound (an address that cannot be listened on is only an
+    // error), and only when it is not loopback.
+    if let Some(h) = args
+        .host
+        .as_ref()
+        .filter(|_| !running.addr.ip().is_loopback())
+    {
+        eprintln!(
+            "warning: listening on {h}: other machines that can reach this address can use the server \
+             (it answers only requests addressed to {h} or to localhost)"
+        );
+    }
     super::emit(
         out,
         &format!("rtlab serve: {} (Ctrl-C to stop)\n", running.url),

@@ -234,11 +234,39 @@ async fn explain(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Re
     run(state, move |st| {
         let s = st.scene(&q.words)?;
         let (x, y) = q.pixel(s.camera.width, s.camera.height)?;
+        check_explained(&s, x, y)?;
         let e = crate::report::explain::explain(&s, x, y);
         let text = crate::report::mistakes::to_json(&s, x, y, None, &e);
         Ok(("application/json", text.into_bytes()))
     })
     .await
+}
+
+/// The most samples one explanation traces and answers on the server: every sample that
+/// reaches the pixel is in its document, each a few kilobytes with its ray tree (65,536 of
+/// them, one pixel at `spp=65536`, made 430 MB).
+pub const MAX_EXPLAINED: u64 = 4096;
+
+/// Refuses to explain a pixel whose document would hold more than [`MAX_EXPLAINED`] samples:
+/// the pixel's own and those of its neighbours that the filter reaches.
+fn check_explained(s: &Scene, x: u32, y: u32) -> crate::error::Result<()> {
+    let reach = crate::sampling::Filter::for_settings(&s.render).reach() as u64;
+    let span = |c: u32, n: u32| {
+        let (c, n) = (u64::from(c), u64::from(n));
+        (c + reach).min(n - 1) - c.saturating_sub(reach) + 1
+    };
+    let pixels = span(x, s.camera.width) * span(y, s.camera.height);
+    let n = pixels * u64::from(s.render.spp);
+    if n > MAX_EXPLAINED {
+        return Err(Error::arg(
+            "--spp",
+            format!(
+                "explaining pixel ({x}, {y}) would trace {n} samples ({} spp × {pixels} pixel(s) the filter reaches), more than the page explains ({MAX_EXPLAINED}); use rtlab explain --pixel {x},{y} --sample K for one of them",
+                s.render.spp
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// `GET /api/diagram.png?x=X&y=Y[&plane=camera|bounce][&highlight=K]&<render options>`:
@@ -262,6 +290,7 @@ async fn diagram(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Re
         };
         let s = st.scene(&q.words)?;
         let (x, y) = q.pixel(s.camera.width, s.camera.height)?;
+        check_explained(&s, x, y)?;
         let e = crate::report::explain::explain(&s, x, y);
         let Some(sample) = e.samples.iter().find(|k| k.pixel == [x, y]) else {
             return Err(Error::arg(
