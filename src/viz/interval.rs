@@ -128,8 +128,10 @@ fn space(
             Some(style::shape_fill()),
         );
     }
+    // Under the box, outside it: a label inside would cover the entry dots of the rays
+    // that enter through its lower side.
     c.text(
-        (corner.0 + size.0 - 4.0, corner.1 + size.1 - 10.0),
+        (corner.0 + size.0, corner.1 + size.1 + 9.0),
         "box",
         11.0,
         style::muted(),
