@@ -2,6 +2,7 @@
 //! ([`AccelKind::Linear`]) or a bounding volume hierarchy over the objects' world bounds
 //! ([`AccelKind::Bvh`], meshes carrying their own BVH over their triangles inside).
 
+pub mod beam;
 mod bundle;
 mod bvh;
 pub mod isa;

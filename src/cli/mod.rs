@@ -1,6 +1,7 @@
 //! One module per subcommand, each an args struct and a `run`. Options shared by every
 //! command that renders are one flattened group, [`RenderArgs`].
 
+pub mod beam;
 pub mod compare;
 pub mod convert;
 pub mod diff;
@@ -48,6 +49,9 @@ pub enum Command {
     Explain(explain::Args),
     /// Intersect one ray with one canonical shape and show the working (and a figure).
     Intersect(intersect::Args),
+    /// Heckbert and Hanrahan's beam tracing in the plane: one beam clipped against walls and
+    /// mirrors nearest first (and a figure).
+    Beam(beam::Args),
     /// Check a scene file and report the first problem (exit 0 when it is valid).
     Validate(validate::Args),
     /// Print the JSON Schema of the native scene format.
@@ -101,6 +105,7 @@ fn run_done(command: Command, out: &mut dyn Write) -> Result<()> {
         Command::Render(a) => render::run(a, out),
         Command::Explain(a) => explain::run(a, out),
         Command::Intersect(a) => intersect::run(a, out),
+        Command::Beam(a) => beam::run(a, out),
         Command::Validate(a) => validate::run(a, out),
         Command::Schema(a) => schema::run(a, out),
         Command::Convert(a) => convert::run(a, out),

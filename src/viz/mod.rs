@@ -2,6 +2,7 @@
 //! every machine draws the same pixels. Every figure also keeps a display list (what was
 //! drawn, in order, with rounded coordinates) for snapshot tests.
 
+pub mod beam;
 pub mod bundle;
 pub mod canvas;
 pub mod compare;

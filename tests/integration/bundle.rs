@@ -583,3 +583,56 @@ fn intersect_box_bundle_to_reports_the_verdicts() {
     assert!(mixed["interval_test"]["kept"].is_null());
     assert_eq!(lanes(&mixed), vec![None; 16]);
 }
+
+/// `rtlab beam`: Heckbert and Hanrahan's beam in the plane. The pieces it prints tile the
+/// beam, each is seen by the segment a ray through it meets first, a mirror's piece is
+/// reflected from the mirrored eye, and `-o` draws it.
+#[test]
+fn beam_prints_the_pieces_of_a_clipped_beam_and_draws_them() {
+    let fig = tmp("beam.png");
+    let args = [
+        "beam",
+        "--from",
+        "-0.6,1",
+        "--to",
+        "1.3,1",
+        "--wall",
+        "-0.7,1.4,-0.1,1.4",
+        "--mirror",
+        "0.6,1.7,1.4,2.3",
+        "--wall",
+        "-1,3.6,2,3.6",
+        "--wall",
+        "3.2,1,3.2,3.4",
+        "-o",
+    ];
+    let mut all: Vec<&str> = args.to_vec();
+    let f = fig.to_str().unwrap();
+    all.push(f);
+    let o = rtlab(&all);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8(o.stdout).unwrap();
+    for line in [
+        "(83.3952° wide)",
+        "piece 1: 9.1671° wide, wall 3 sees it, from (3.2, 2.4615) to (3.2, 3.4)",
+        "piece 2: 11.9356° wide, passes every segment",
+        "piece 3: 11.8887° wide, mirror 1 sees it, from (1.4, 2.3) to (0.6, 1.7)",
+        "reflected: a beam from (-1.2, 1.6) (the eye mirrored in mirror 1)",
+        "piece 3.1: 11.8887° wide, wall 3 sees it",
+        "piece 5: 22.4794° wide, wall 1 sees it, from (-0.1, 1.4) to (-0.7, 1.4)",
+        "their widths add up to 83.3952°",
+    ] {
+        assert!(text.contains(line), "missing {line:?} in\n{text}");
+    }
+    let img = image::open(&fig).unwrap();
+    assert_eq!((img.width(), img.height()), (960, 620));
+    // With no reflection, the mirror's piece is not followed.
+    let mut flat: Vec<&str> = args[..args.len() - 1].to_vec();
+    flat.extend(["--depth", "0"]);
+    let o = rtlab(&flat);
+    let text = String::from_utf8(o.stdout).unwrap();
+    assert!(
+        !text.contains("reflected:") && text.contains("not reflected further"),
+        "{text}"
+    );
+}

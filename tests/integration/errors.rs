@@ -703,6 +703,24 @@ fn cases() -> Vec<Case> {
             vec!["/dev/zero: is not an image; expected an 8-bit RGB PNG"],
         ),
         c(
+            "a beam with no wall or mirror",
+            vec![],
+            vec!["beam", "--from", "-1,1", "--to", "1,1"],
+            vec!["argument --wall/--mirror", "give at least one wall or mirror"],
+        ),
+        c(
+            "a beam against walls that cross",
+            vec![],
+            vec!["beam", "--from", "-1,1", "--to", "1,1", "--wall", "-1,1,1,2", "--wall", "-1,2,1,1"],
+            vec!["argument --wall/--mirror", "segments 1 and 2 cross"],
+        ),
+        c(
+            "a beam half a turn wide",
+            vec![],
+            vec!["beam", "--from", "1,0", "--to", "-1,0", "--wall", "-1,1,1,1"],
+            vec!["argument --from/--to", "180.000° apart"],
+        ),
+        c(
             "an empty --mistake",
             s(obj(SPHERE)),
             vec!["render", "scene.json", "--mistake="],
