@@ -41,6 +41,11 @@ pub struct Args {
     /// How many reflections to follow.
     #[arg(long, value_name = "N", default_value_t = 1)]
     pub depth: u32,
+    /// Output format: text or json (`{"eye", "from", "to", "degrees", "pieces": [{"from",
+    /// "to", "degrees", "near", "seen_by": {"segment", "name", "mirror", "points"} | null,
+    /// "reflected": {"apex", "pieces"} | null}]}`).
+    #[arg(long, default_value = "text", value_name = "text|json")]
+    pub format: String,
     /// Also draw the beam and its pieces (PNG).
     #[arg(short, long)]
     pub output: Option<PathBuf>,
@@ -98,6 +103,35 @@ pub fn parse(args: &Args) -> Result<(Beam, Vec<Segment>)> {
     Ok((beam, segments))
 }
 
+fn xy(p: DVec2) -> [f64; 2] {
+    [p.x, p.y]
+}
+
+/// The pieces as JSON (the shape `--format` documents).
+fn to_json(segments: &[Segment], pieces: &[Piece]) -> Vec<serde_json::Value> {
+    pieces
+        .iter()
+        .map(|p| {
+            serde_json::json!({
+                "from": xy(p.from),
+                "to": xy(p.to),
+                "degrees": p.degrees,
+                "near": [xy(p.near[0]), xy(p.near[1])],
+                "seen_by": p.hit.map(|(i, [a, b])| serde_json::json!({
+                    "segment": i,
+                    "name": name(segments, i),
+                    "mirror": segments[i].mirror,
+                    "points": [xy(a), xy(b)],
+                })),
+                "reflected": p.reflected.as_ref().map(|(r, sub)| serde_json::json!({
+                    "apex": xy(r.apex),
+                    "pieces": to_json(segments, sub),
+                })),
+            })
+        })
+        .collect()
+}
+
 fn v2(p: DVec2) -> String {
     vector(&[p.x, p.y], short)
 }
@@ -106,9 +140,31 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
     if let Some(o) = &args.output {
         check_png(o, "-o")?;
     }
+    if args.format != "text" && args.format != "json" {
+        return Err(Error::arg(
+            "--format",
+            format!("unknown format \"{}\" (expected text or json)", args.format),
+        ));
+    }
     let (beam, segments) = parse(&args)?;
     let pieces = beam::trace(&beam, &segments, args.depth);
     let wide = beam::width(&beam).unwrap_or(0.0);
+    if args.format == "json" {
+        if let Some(o) = &args.output {
+            crate::viz::beam::figure(&beam, &segments, &pieces).write_png(o)?;
+        }
+        let doc = serde_json::json!({
+            "eye": xy(beam.apex),
+            "from": xy(beam.from),
+            "to": xy(beam.to),
+            "degrees": wide,
+            "pieces": to_json(&segments, &pieces),
+        });
+        return super::emit(
+            out,
+            &(serde_json::to_string_pretty(&doc).expect("plain JSON") + "\n"),
+        );
+    }
     let mut text = format!(
         "A beam from the eye at {}, between directions {} and {} ({}° wide), clipped against {} \
          segment(s) nearest first (Heckbert and Hanrahan 1984).\n\

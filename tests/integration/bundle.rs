@@ -626,6 +626,21 @@ fn beam_prints_the_pieces_of_a_clipped_beam_and_draws_them() {
     }
     let img = image::open(&fig).unwrap();
     assert_eq!((img.width(), img.height()), (960, 620));
+    // The same pieces as JSON: their widths add up to the beam's, and the mirror's piece
+    // carries its reflection.
+    let mut json: Vec<&str> = args[..args.len() - 1].to_vec();
+    json.extend(["--format", "json"]);
+    let o = rtlab(&json);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let doc: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let pieces = doc["pieces"].as_array().unwrap();
+    let sum: f64 = pieces.iter().map(|p| p["degrees"].as_f64().unwrap()).sum();
+    assert!((sum - doc["degrees"].as_f64().unwrap()).abs() < 1e-9);
+    assert_eq!(pieces[2]["seen_by"]["name"], "mirror 1");
+    let apex = &pieces[2]["reflected"]["apex"];
+    let near = |v: &serde_json::Value, x: f64| (v.as_f64().unwrap() - x).abs() < 1e-12;
+    assert!(near(&apex[0], -1.2) && near(&apex[1], 1.6), "{apex}");
+    assert!(pieces[1]["seen_by"].is_null());
     // With no reflection, the mirror's piece is not followed.
     let mut flat: Vec<&str> = args[..args.len() - 1].to_vec();
     flat.extend(["--depth", "0"]);
