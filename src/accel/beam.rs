@@ -82,24 +82,23 @@ pub enum Problem {
     Empty(usize),
     /// The apex lies on segment `i`.
     OnSegment(usize),
-    /// Segments `i` and `j` cross.
+    /// Segments `i` and `j` cross, or overlap along a common line.
     Cross(usize, usize),
 }
 
-impl std::fmt::Display for Problem {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Problem::Width(d) => write!(
-                f,
+impl Problem {
+    /// The message, naming segments as the user knows them ([`name`]).
+    pub fn message(&self, segments: &[Segment]) -> String {
+        match *self {
+            Problem::Width(d) => format!(
                 "the two directions are {d:.3}° apart: a beam must be more than 0° and less than 180° wide"
             ),
-            Problem::Empty(i) => write!(f, "segment {} has no length", i + 1),
-            Problem::OnSegment(i) => write!(f, "the eye lies on segment {}", i + 1),
-            Problem::Cross(i, j) => write!(
-                f,
-                "segments {} and {} cross: a beam is clipped against segments that meet at most at their ends",
-                i + 1,
-                j + 1
+            Problem::Empty(i) => format!("{} has no length", name(segments, i)),
+            Problem::OnSegment(i) => format!("the eye lies on {}", name(segments, i)),
+            Problem::Cross(i, j) => format!(
+                "{} and {} cross or overlap: a beam is clipped against segments that meet at most at their ends",
+                name(segments, i),
+                name(segments, j)
             ),
         }
     }
@@ -138,7 +137,8 @@ fn segment_t(p: DVec2, d: DVec2, s: &Segment, t_min: f64) -> Option<f64> {
 pub fn check(eye: DVec2, segments: &[Segment]) -> Result<(), Problem> {
     for (i, s) in segments.iter().enumerate() {
         let e = s.b - s.a;
-        if e.length() < 1e-12 {
+        // Relative to where it lies: a segment of 1e-13 near the origin is a segment.
+        if e.length() <= 1e-12 * s.a.length().max(s.b.length()) {
             return Err(Problem::Empty(i));
         }
         let u = (eye - s.a).dot(e) / e.length_squared();
@@ -156,11 +156,19 @@ pub fn check(eye: DVec2, segments: &[Segment]) -> Result<(), Problem> {
     Ok(())
 }
 
-/// Whether two segments cross at a point inside both (meeting at an end is allowed).
+/// Whether two segments cross at a point inside both, or overlap along a common line
+/// (meeting at an end is allowed).
 fn cross(p: &Segment, q: &Segment) -> bool {
     let side = |s: &Segment, x: DVec2| (s.b - s.a).perp_dot(x - s.a);
     let (a, b) = (side(p, q.a), side(p, q.b));
     let (c, d) = (side(q, p.a), side(q, p.b));
+    if a == 0.0 && b == 0.0 {
+        // On one line: they overlap when their spans along it share more than a point.
+        let e = p.b - p.a;
+        let along = |x: DVec2| (x - p.a).dot(e) / e.length_squared();
+        let (u, v) = (along(q.a), along(q.b));
+        return u.max(v).min(1.0) > u.min(v).max(0.0);
+    }
     a * b < 0.0 && c * d < 0.0
 }
 
@@ -200,7 +208,9 @@ pub fn trace(beam: &Beam, segments: &[Segment], depth: u32) -> Vec<Piece> {
         None => 0.0,
     };
     let nearest = |d: DVec2| {
-        let t_min = start(d) + 1e-9;
+        // Past the apex (t > 0), or just past the mirror a reflected beam leaves: the margin
+        // is relative, so a room at any scale is clipped alike.
+        let t_min = start(d) * (1.0 + 1e-9);
         segments
             .iter()
             .enumerate()
@@ -313,8 +323,8 @@ mod tests {
             for k in 1..20 {
                 let d = turn(p.from, angle(p.from, p.to) * k as f64 / 20.0);
                 let t_min = match beam.leaves {
-                    Some(m) => line_t(beam.apex, d, &segs[m]).unwrap() + 1e-9,
-                    None => 1e-9,
+                    Some(m) => line_t(beam.apex, d, &segs[m]).unwrap() * (1.0 + 1e-9),
+                    None => 0.0,
                 };
                 assert_eq!(
                     brute(beam.apex, d, segs, beam.leaves, t_min),
@@ -349,6 +359,46 @@ mod tests {
     }
 
     #[test]
+    fn a_room_is_clipped_alike_at_every_scale() {
+        let (beam, segs) = room();
+        let at = |k: f64| {
+            let segs: Vec<Segment> = segs
+                .iter()
+                .map(|s| Segment {
+                    a: s.a * k,
+                    b: s.b * k,
+                    mirror: s.mirror,
+                })
+                .collect();
+            check(beam.apex, &segs).unwrap();
+            let hits = |p: &[Piece]| {
+                p.iter()
+                    .map(|p| (p.hit.map(|h| h.0), p.degrees))
+                    .collect::<Vec<_>>()
+            };
+            let pieces = trace(&beam, &segs, 1);
+            (
+                hits(&pieces),
+                hits(&pieces[1].reflected.as_ref().unwrap().1),
+            )
+        };
+        let one = at(1.0);
+        for k in [1e-10, 1e-6, 1e6, 1e11] {
+            let other = at(k);
+            assert_eq!(one.0.len(), other.0.len(), "scale {k}");
+            for (a, b) in one
+                .0
+                .iter()
+                .chain(&one.1)
+                .zip(other.0.iter().chain(&other.1))
+            {
+                assert_eq!(a.0, b.0, "scale {k}");
+                assert!((a.1 - b.1).abs() < 1e-6, "scale {k}: {a:?} {b:?}");
+            }
+        }
+    }
+
+    #[test]
     fn depth_zero_reflects_nothing_and_an_empty_room_is_one_piece() {
         let (beam, segs) = room();
         assert!(trace(&beam, &segs, 0).iter().all(|p| p.reflected.is_none()));
@@ -366,6 +416,20 @@ mod tests {
         assert!(matches!(width(&none), Err(Problem::Width(_))));
         segs.push(seg((-1.0, 1.0), (1.0, 3.0), false));
         assert_eq!(check(DVec2::ZERO, &segs), Err(Problem::Cross(0, 4)));
+        assert!(Problem::Cross(0, 1)
+            .message(&segs)
+            .starts_with("wall 1 and mirror 1 cross"));
+        // Overlapping on one line is refused; meeting end to end is not.
+        let line = [
+            seg((0.0, 2.0), (2.0, 2.0), true),
+            seg((-1.0, 2.0), (1.0, 2.0), false),
+        ];
+        assert_eq!(check(DVec2::ZERO, &line), Err(Problem::Cross(0, 1)));
+        let ends = [
+            seg((0.0, 2.0), (2.0, 2.0), true),
+            seg((-1.0, 2.0), (0.0, 2.0), false),
+        ];
+        assert_eq!(check(DVec2::ZERO, &ends), Ok(()));
         assert_eq!(
             check(DVec2::new(0.0, 2.0), &segs[..1]),
             Err(Problem::OnSegment(0))

@@ -6,7 +6,7 @@ use super::intersect_args::bounded_list;
 use crate::accel::beam::{self, name, Beam, Piece, Segment};
 use crate::error::{Error, Result};
 use crate::output::check_png;
-use crate::shapes::working::{short, vector};
+use crate::shapes::working::{tiny, vector};
 use glam::DVec2;
 use std::path::PathBuf;
 
@@ -35,14 +35,15 @@ pub struct Args {
     /// A wall, which stops the beam: X1,Y1,X2,Y2 (repeat for more).
     #[arg(long, value_name = "X1,Y1,X2,Y2", allow_hyphen_values = true)]
     pub wall: Vec<String>,
-    /// A mirror, which reflects the part of the beam it sees: X1,Y1,X2,Y2 (repeat for more).
+    /// A mirror, which reflects the part of the beam it sees, on either side: X1,Y1,X2,Y2
+    /// (repeat for more).
     #[arg(long, value_name = "X1,Y1,X2,Y2", allow_hyphen_values = true)]
     pub mirror: Vec<String>,
     /// How many reflections to follow.
     #[arg(long, value_name = "N", default_value_t = 1)]
     pub depth: u32,
     /// Output format: text or json (`{"eye", "from", "to", "degrees", "pieces": [{"from",
-    /// "to", "degrees", "near", "seen_by": {"segment", "name", "mirror", "points"} | null,
+    /// "to", "degrees", "near", "seen_by": {"name", "mirror", "points"} | null,
     /// "reflected": {"apex", "pieces"} | null}]}`).
     #[arg(long, default_value = "text", value_name = "text|json")]
     pub format: String,
@@ -60,13 +61,19 @@ pub fn parse(args: &Args) -> Result<(Beam, Vec<Segment>)> {
     let dir = |arg: &str, s: &str| -> Result<DVec2> {
         let d = point(arg, s)?;
         if d.length() < super::intersect_args::MIN_LENGTH {
-            return Err(Error::arg(arg, "the direction must not be zero"));
+            return Err(Error::arg(
+                arg,
+                format!(
+                    "the direction must not be zero (or shorter than {:e})",
+                    super::intersect_args::MIN_LENGTH
+                ),
+            ));
         }
         Ok(d)
     };
     let eye = point("--eye", &args.eye)?;
     let beam = Beam::between(eye, dir("--from", &args.from)?, dir("--to", &args.to)?);
-    beam::width(&beam).map_err(|p| Error::arg("--from/--to", p.to_string()))?;
+    beam::width(&beam).map_err(|p| Error::arg("--from/--to", p.message(&[])))?;
     if args.depth > MAX_DEPTH {
         return Err(Error::arg(
             "--depth",
@@ -99,7 +106,7 @@ pub fn parse(args: &Args) -> Result<(Beam, Vec<Segment>)> {
             format!("{} segments is more than {MAX_SEGMENTS}", segments.len()),
         ));
     }
-    beam::check(eye, &segments).map_err(|p| Error::arg("--wall/--mirror", p.to_string()))?;
+    beam::check(eye, &segments).map_err(|p| Error::arg("--wall/--mirror", p.message(&segments)))?;
     Ok((beam, segments))
 }
 
@@ -118,7 +125,6 @@ fn to_json(segments: &[Segment], pieces: &[Piece]) -> Vec<serde_json::Value> {
                 "degrees": p.degrees,
                 "near": [xy(p.near[0]), xy(p.near[1])],
                 "seen_by": p.hit.map(|(i, [a, b])| serde_json::json!({
-                    "segment": i,
                     "name": name(segments, i),
                     "mirror": segments[i].mirror,
                     "points": [xy(a), xy(b)],
@@ -133,7 +139,7 @@ fn to_json(segments: &[Segment], pieces: &[Piece]) -> Vec<serde_json::Value> {
 }
 
 fn v2(p: DVec2) -> String {
-    vector(&[p.x, p.y], short)
+    vector(&[p.x, p.y], tiny)
 }
 
 pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
@@ -166,20 +172,20 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
         );
     }
     let mut text = format!(
-        "A beam from the eye at {}, between directions {} and {} ({}° wide), clipped against {} \
-         segment(s) nearest first (Heckbert and Hanrahan 1984).\n\
+        "A beam from the eye at {}, counterclockwise from direction {} to {} ({}° wide), clipped \
+         against {} segment(s) nearest first (Heckbert and Hanrahan 1984).\n\
          Its pieces, counterclockwise; each is the part of the beam one segment sees:\n",
         v2(beam.apex),
         v2(beam.from),
         v2(beam.to),
-        short(wide),
+        tiny(wide),
         segments.len()
     );
     describe(&mut text, &segments, &pieces, "", 1, "");
     let total: f64 = pieces.iter().map(|p| p.degrees).sum();
     text += &format!(
         "Every ray of the beam lies in exactly one piece: their widths add up to {}°.\n",
-        short(total)
+        tiny(total)
     );
     if let Some(o) = &args.output {
         crate::viz::beam::figure(&beam, &segments, &pieces).write_png(o)?;
@@ -207,7 +213,7 @@ fn describe(
             }
             None => "passes every segment".to_string(),
         };
-        *text += &format!("{pad}piece {label}: {}° wide, {what}\n", short(p.degrees));
+        *text += &format!("{pad}piece {label}: {}° wide, {what}\n", tiny(p.degrees));
         if let Some((r, sub)) = &p.reflected {
             let m = name(segments, p.hit.map_or(0, |h| h.0));
             let chain = match mirrored {

@@ -4,6 +4,7 @@
 //! from).
 
 use super::canvas::{Anchor, Canvas};
+use super::labels::{overlaps, text_box, Box2};
 use super::style;
 use crate::accel::beam::{name, Beam, Piece, Segment};
 use crate::trace::RayKind;
@@ -30,7 +31,9 @@ impl View {
             min = min.min(p);
             max = max.max(p);
         }
-        let pad = ((max - min).max_element() * 0.08).max(1e-6);
+        // Relative: a room of any size fills the figure (segments have a length, so the
+        // extent is never zero).
+        let pad = (max - min).max_element() * 0.08;
         let (min, max) = (min - DVec2::splat(pad), max + DVec2::splat(pad));
         let (aw, ah) = ((W - 2.0 * MARGIN) as f64, (H - TOP - BOTTOM) as f64);
         let scale = (aw / (max.x - min.x)).min(ah / (max.y - min.y));
@@ -116,20 +119,6 @@ impl View {
     }
 }
 
-/// Every point the figure must show: the eyes (the real one and the mirrored ones) and the
-/// segments.
-fn points(beam: &Beam, segments: &[Segment], pieces: &[Piece], out: &mut Vec<DVec2>) {
-    out.push(beam.apex);
-    for s in segments {
-        out.extend([s.a, s.b]);
-    }
-    for p in pieces {
-        if let Some((r, sub)) = &p.reflected {
-            points(r, segments, sub, out);
-        }
-    }
-}
-
 /// The figure of `beam`'s `pieces` against `segments`.
 pub fn figure(beam: &Beam, segments: &[Segment], pieces: &[Piece]) -> Canvas {
     let mut c = Canvas::new(W as u32, H as u32, style::background());
@@ -154,9 +143,13 @@ pub fn figure(beam: &Beam, segments: &[Segment], pieces: &[Piece]) -> Canvas {
         style::muted(),
         Anchor::Left,
     );
-    let mut all = Vec::new();
-    points(beam, segments, pieces, &mut all);
-    let view = View::new(&all);
+    // The room: the eye and the segments. A mirrored eye may lie far outside it (two facing
+    // mirrors put them ever further away); its dashed lines are drawn up to the frame.
+    let mut room = vec![beam.apex];
+    for s in segments {
+        room.extend([s.a, s.b]);
+    }
+    let view = View::new(&room);
     let (x0, y1) = view.at(view.min);
     let (x1, y0) = view.at(view.max);
     c.rect(
@@ -169,8 +162,43 @@ pub fn figure(beam: &Beam, segments: &[Segment], pieces: &[Piece]) -> Canvas {
         prefix: String::new(),
         level: 0,
         mirrored: String::new(),
+        eye: beam.apex,
     };
-    draw_pieces(&mut c, &view, (beam, pieces), segments, &eye);
+    // Where each segment's name goes, and the eye's: kept clear of the pieces' numbers.
+    let names: Vec<((f32, f32), Anchor)> = segments
+        .iter()
+        .map(|s| {
+            // Beside the segment's middle, on the side away from the eye.
+            let mid = (s.a + s.b) / 2.0;
+            let mut n = (s.b - s.a).perp().normalize();
+            if n.dot(mid - beam.apex) < 0.0 {
+                n = -n;
+            }
+            let (mx, my) = view.at(mid);
+            let at = (mx + 16.0 * n.x as f32, my - 16.0 * n.y as f32);
+            let anchor = match n.x {
+                x if x > 0.4 => Anchor::Left,
+                x if x < -0.4 => Anchor::Right,
+                _ => Anchor::Center,
+            };
+            (at, anchor)
+        })
+        .collect();
+    let eye_at = view.at(beam.apex);
+    let mut taken: Vec<Box2> = names
+        .iter()
+        .enumerate()
+        .map(|(i, &(at, anchor))| text_box(at, &name(segments, i), 12.0, anchor))
+        .collect();
+    taken.push(text_box(
+        (eye_at.0, eye_at.1 + 16.0),
+        "eye",
+        12.0,
+        Anchor::Center,
+    ));
+    let mut jobs = Vec::new();
+    draw_pieces(&mut c, &view, (beam, pieces), segments, &eye, &mut jobs);
+    place(&mut c, &jobs, &mut taken);
     for (i, s) in segments.iter().enumerate() {
         let color = if s.mirror {
             style::ray(RayKind::Reflection)
@@ -178,19 +206,7 @@ pub fn figure(beam: &Beam, segments: &[Segment], pieces: &[Piece]) -> Canvas {
             style::ink()
         };
         c.line(view.at(s.a), view.at(s.b), color, 3.5, false);
-        // The name beside the segment's middle, on the side away from the eye.
-        let mid = (s.a + s.b) / 2.0;
-        let mut n = (s.b - s.a).perp().normalize();
-        if n.dot(mid - beam.apex) < 0.0 {
-            n = -n;
-        }
-        let (mx, my) = view.at(mid);
-        let at = (mx + 16.0 * n.x as f32, my - 16.0 * n.y as f32);
-        let anchor = match n.x {
-            x if x > 0.4 => Anchor::Left,
-            x if x < -0.4 => Anchor::Right,
-            _ => Anchor::Center,
-        };
+        let (at, anchor) = names[i];
         label(&mut c, at, &name(segments, i), color, anchor);
     }
     let eye = view.at(beam.apex);
@@ -219,6 +235,33 @@ pub fn figure(beam: &Beam, segments: &[Segment], pieces: &[Piece]) -> Canvas {
     c
 }
 
+/// A label to place once every beam is drawn: the first free candidate, or (if `needed`)
+/// the first one even if it overlaps.
+struct Job {
+    candidates: Vec<((f32, f32), Anchor)>,
+    text: String,
+    color: tiny_skia::Color,
+    needed: bool,
+}
+
+/// Places `jobs` in order, each clear of `taken` and of the ones placed before it.
+fn place(c: &mut Canvas, jobs: &[Job], taken: &mut Vec<Box2>) {
+    for job in jobs {
+        let boxes: Vec<Box2> = job
+            .candidates
+            .iter()
+            .map(|&(at, anchor)| text_box(at, &job.text, 12.0, anchor))
+            .collect();
+        let free = (0..boxes.len()).find(|&i| !taken.iter().any(|t| overlaps(t, &boxes[i])));
+        let Some(i) = free.or(if job.needed { Some(0) } else { None }) else {
+            continue;
+        };
+        let (at, anchor) = job.candidates[i];
+        label(c, at, &job.text, job.color, anchor);
+        taken.push(boxes[i]);
+    }
+}
+
 /// A label on a pale backing, so that the thin lines it falls on do not cross its letters.
 fn label(c: &mut Canvas, at: (f32, f32), text: &str, color: tiny_skia::Color, anchor: Anchor) {
     let w = Canvas::text_width(text, 12.0);
@@ -242,6 +285,8 @@ struct Lineage {
     prefix: String,
     level: u32,
     mirrored: String,
+    /// The real eye, where every lineage starts.
+    eye: DVec2,
 }
 
 /// Draws `pieces` of `beam` (numbered `prefix` 1, 2, …), then each reflected beam's.
@@ -251,11 +296,13 @@ fn draw_pieces(
     (beam, pieces): (&Beam, &[Piece]),
     segments: &[Segment],
     lineage: &Lineage,
+    jobs: &mut Vec<Job>,
 ) {
     let Lineage {
         prefix,
         level,
         mirrored,
+        ..
     } = lineage;
     let level = *level;
     let (seen, passing, edge) = match level {
@@ -272,25 +319,39 @@ fn draw_pieces(
     };
     if level > 0 {
         // Where the reflected rays seem to come from: the mirrored eye, dashed to the mirror.
-        let apex = view.at(beam.apex);
         if let (Some(first), Some(last)) = (pieces.first(), pieces.last()) {
             for q in [first.near[0], last.near[1]] {
-                c.line(apex, view.at(q), style::muted(), 1.0, true);
+                if let Some((a, b)) = view.clip_line(beam.apex, q) {
+                    c.line(view.at(a), view.at(b), style::muted(), 1.0, true);
+                }
             }
         }
-        c.circle(
-            apex,
-            4.5,
-            Some((style::ink(), 1.2)),
-            Some(style::background()),
-        );
-        label(
-            c,
-            (apex.0 - 9.0, apex.1),
-            mirrored.as_str(),
-            style::muted(),
-            Anchor::Right,
-        );
+        // The mirrored eye itself, when it is in the frame; named only for the first
+        // reflection (deeper chains are in the printed list), and not over the eye's name.
+        let (lo, hi) = (view.min, view.max);
+        let p = beam.apex;
+        if p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y {
+            let apex = view.at(p);
+            c.circle(
+                apex,
+                4.5,
+                Some((style::ink(), 1.2)),
+                Some(style::background()),
+            );
+            let eye = view.at(lineage.eye);
+            if level == 1 && (apex.0 - eye.0).hypot(apex.1 - eye.1) > 24.0 {
+                jobs.push(Job {
+                    candidates: vec![
+                        ((apex.0 - 9.0, apex.1), Anchor::Right),
+                        ((apex.0 + 9.0, apex.1), Anchor::Left),
+                        ((apex.0, apex.1 + 16.0), Anchor::Center),
+                    ],
+                    text: mirrored.clone(),
+                    color: style::muted(),
+                    needed: true,
+                });
+            }
+        }
     }
     for (k, p) in pieces.iter().enumerate() {
         let ends = match p.hit {
@@ -317,20 +378,30 @@ fn draw_pieces(
         let Some((a, b)) = view.clip_line(near, far) else {
             continue;
         };
-        // Not where the mirror's own name or the reflected beam's numbers go.
-        let along = match p.hit {
+        if p.degrees < 0.5 {
+            continue; // too narrow to hold its number
+        }
+        // Not where the mirror's own name or the reflected beam's numbers go; then nearer
+        // and further along the same ray if that place is taken.
+        let along: f64 = match p.hit {
             _ if level > 0 => 0.5,
             Some((i, _)) if segments[i].mirror => 0.55,
             Some(_) => 0.8,
             None => 0.6,
         };
-        label(
-            c,
-            view.at(a + along * (b - a)),
-            &format!("{prefix}{}", k + 1),
-            style::ink(),
-            Anchor::Center,
-        );
+        let candidates = [0.0, -0.12, 0.12, -0.25, 0.25, -0.35]
+            .iter()
+            .map(|d| (along + d).clamp(0.1, 0.95))
+            .map(|f| (view.at(a + f * (b - a)), Anchor::Center))
+            .collect();
+        jobs.push(Job {
+            candidates,
+            text: format!("{prefix}{}", k + 1),
+            color: style::ink(),
+            // The first beam's numbers always; a deeper one's only where there is room
+            // (every piece is in the printed list).
+            needed: level == 0,
+        });
     }
     for (k, p) in pieces.iter().enumerate() {
         if let (Some((r, sub)), Some((m, _))) = (&p.reflected, p.hit) {
@@ -342,8 +413,9 @@ fn draw_pieces(
                 prefix: format!("{prefix}{}.", k + 1),
                 level: level + 1,
                 mirrored: chain,
+                eye: lineage.eye,
             };
-            draw_pieces(c, view, (r, sub), segments, &next);
+            draw_pieces(c, view, (r, sub), segments, &next, jobs);
         }
     }
 }

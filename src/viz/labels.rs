@@ -15,7 +15,8 @@ pub struct Labels {
     area: Box2,
 }
 
-fn overlaps(a: &Box2, b: &Box2) -> bool {
+/// Whether two boxes share any area.
+pub fn overlaps(a: &Box2, b: &Box2) -> bool {
     a[0] < b[2] && b[0] < a[2] && a[1] < b[3] && b[1] < a[3]
 }
 

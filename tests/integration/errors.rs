@@ -712,7 +712,13 @@ fn cases() -> Vec<Case> {
             "a beam against walls that cross",
             vec![],
             vec!["beam", "--from", "-1,1", "--to", "1,1", "--wall", "-1,1,1,2", "--wall", "-1,2,1,1"],
-            vec!["argument --wall/--mirror", "segments 1 and 2 cross"],
+            vec!["argument --wall/--mirror", "wall 1 and wall 2 cross or overlap"],
+        ),
+        c(
+            "a mirror and a wall on one line, overlapping",
+            vec![],
+            vec!["beam", "--from", "0,1", "--to", "1,1", "--mirror", "0,2,2,2", "--wall", "-1,2,1,2"],
+            vec!["argument --wall/--mirror", "wall 1 and mirror 1 cross or overlap"],
         ),
         c(
             "a beam half a turn wide",
