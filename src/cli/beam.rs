@@ -58,17 +58,10 @@ pub fn parse(args: &Args) -> Result<(Beam, Vec<Segment>)> {
         let v = bounded_list(arg, s, 2)?;
         Ok(DVec2::new(v[0], v[1]))
     };
+    // A direction in the plane, checked by the same rule as a ray's (`intersect`).
     let dir = |arg: &str, s: &str| -> Result<DVec2> {
         let d = point(arg, s)?;
-        if d.length() < super::intersect_args::MIN_LENGTH {
-            return Err(Error::arg(
-                arg,
-                format!(
-                    "the direction must not be zero (or shorter than {:e})",
-                    super::intersect_args::MIN_LENGTH
-                ),
-            ));
-        }
+        super::intersect_args::direction(arg, glam::DVec3::new(d.x, d.y, 0.0))?;
         Ok(d)
     };
     let eye = point("--eye", &args.eye)?;

@@ -4,7 +4,7 @@
 //! from).
 
 use super::canvas::{Anchor, Canvas};
-use super::labels::{overlaps, text_box, Box2};
+use super::labels::{text_box, Labels};
 use super::style;
 use crate::accel::beam::{name, Beam, Piece, Segment};
 use crate::trace::RayKind;
@@ -185,12 +185,11 @@ pub fn figure(beam: &Beam, segments: &[Segment], pieces: &[Piece]) -> Canvas {
         })
         .collect();
     let eye_at = view.at(beam.apex);
-    let mut taken: Vec<Box2> = names
-        .iter()
-        .enumerate()
-        .map(|(i, &(at, anchor))| text_box(at, &name(segments, i), 12.0, anchor))
-        .collect();
-    taken.push(text_box(
+    let mut labels = Labels::new([0.0, 0.0, W, H]);
+    for (i, &(at, anchor)) in names.iter().enumerate() {
+        labels.block(text_box(at, &name(segments, i), 12.0, anchor));
+    }
+    labels.block(text_box(
         (eye_at.0, eye_at.1 + 16.0),
         "eye",
         12.0,
@@ -198,7 +197,7 @@ pub fn figure(beam: &Beam, segments: &[Segment], pieces: &[Piece]) -> Canvas {
     ));
     let mut jobs = Vec::new();
     draw_pieces(&mut c, &view, (beam, pieces), segments, &eye, &mut jobs);
-    place(&mut c, &jobs, &mut taken);
+    place(&mut c, &jobs, &mut labels);
     for (i, s) in segments.iter().enumerate() {
         let color = if s.mirror {
             style::ray(RayKind::Reflection)
@@ -244,35 +243,22 @@ struct Job {
     needed: bool,
 }
 
-/// Places `jobs` in order, each clear of `taken` and of the ones placed before it.
-fn place(c: &mut Canvas, jobs: &[Job], taken: &mut Vec<Box2>) {
+/// Places `jobs` in order, each clear of the boxes `labels` holds and of the ones placed
+/// before it.
+fn place(c: &mut Canvas, jobs: &[Job], labels: &mut Labels) {
     for job in jobs {
-        let boxes: Vec<Box2> = job
-            .candidates
-            .iter()
-            .map(|&(at, anchor)| text_box(at, &job.text, 12.0, anchor))
-            .collect();
-        let free = (0..boxes.len()).find(|&i| !taken.iter().any(|t| overlaps(t, &boxes[i])));
-        let Some(i) = free.or(if job.needed { Some(0) } else { None }) else {
-            continue;
-        };
-        let (at, anchor) = job.candidates[i];
-        label(c, at, &job.text, job.color, anchor);
-        taken.push(boxes[i]);
+        if let Some((at, anchor)) = labels.reserve(&job.candidates, &job.text, 12.0, job.needed) {
+            label(c, at, &job.text, job.color, anchor);
+        }
     }
 }
 
 /// A label on a pale backing, so that the thin lines it falls on do not cross its letters.
 fn label(c: &mut Canvas, at: (f32, f32), text: &str, color: tiny_skia::Color, anchor: Anchor) {
-    let w = Canvas::text_width(text, 12.0);
-    let x = match anchor {
-        Anchor::Left => at.0,
-        Anchor::Center => at.0 - w / 2.0,
-        Anchor::Right => at.0 - w,
-    };
+    let b = text_box(at, text, 12.0, anchor);
     c.rect(
-        (x - 2.0, at.1 - 8.0),
-        (w + 4.0, 16.0),
+        (b[0], b[1]),
+        (b[2] - b[0], b[3] - b[1]),
         None,
         Some(style::rgba(255, 255, 255, 210)),
     );

@@ -15,8 +15,7 @@ pub struct Labels {
     area: Box2,
 }
 
-/// Whether two boxes share any area.
-pub fn overlaps(a: &Box2, b: &Box2) -> bool {
+fn overlaps(a: &Box2, b: &Box2) -> bool {
     a[0] < b[2] && b[0] < a[2] && a[1] < b[3] && b[1] < a[3]
 }
 
@@ -104,25 +103,40 @@ impl Labels {
         color: Color,
         overlap: bool,
     ) -> Option<(f32, f32)> {
+        let (at, anchor) = self.reserve(candidates, text, size, overlap)?;
+        canvas.text(at, text, size, color, anchor);
+        Some(at)
+    }
+
+    /// Chooses where `text` goes as [`Labels::place`] does (with `overlap`, as
+    /// [`Labels::place_any`]) and marks that box taken, without drawing: for a caller that
+    /// draws the label its own way (on a backing, say).
+    pub fn reserve(
+        &mut self,
+        candidates: &[((f32, f32), Anchor)],
+        text: &str,
+        size: f32,
+        overlap: bool,
+    ) -> Option<((f32, f32), Anchor)> {
         let boxes: Vec<Box2> = candidates
             .iter()
             .map(|(at, a)| text_box(*at, text, size, *a))
             .collect();
+        let inside = |b: &Box2| {
+            b[0] >= self.area[0]
+                && b[1] >= self.area[1]
+                && b[2] <= self.area[2]
+                && b[3] <= self.area[3]
+        };
         let pick = (0..candidates.len())
             .find(|&i| self.free(&boxes[i]))
             .or_else(|| {
-                (0..candidates.len()).filter(|_| overlap).find(|&i| {
-                    let b = &boxes[i];
-                    b[0] >= self.area[0]
-                        && b[1] >= self.area[1]
-                        && b[2] <= self.area[2]
-                        && b[3] <= self.area[3]
-                })
+                (0..candidates.len())
+                    .filter(|_| overlap)
+                    .find(|&i| inside(&boxes[i]))
             })?;
-        let (at, anchor) = candidates[pick];
-        canvas.text(at, text, size, color, anchor);
         self.taken.push(boxes[pick]);
-        Some(at)
+        Some(candidates[pick])
     }
 }
 
