@@ -63,7 +63,7 @@ pub struct RenderArgs {
     /// Use a pinhole even if the camera has an aperture.
     #[arg(long)]
     pub no_depth_of_field: bool,
-    /// Ray budget of one sample (default 100000): past it, the rest of the sample's ray tree
+    /// Ray budget of one sample (default 10000): past it, the rest of the sample's ray tree
     /// is cut (explain shows `end: ray-budget`).
     #[arg(long, value_name = "N")]
     pub max_rays: Option<u64>,

@@ -205,3 +205,24 @@ fn output_files_get_the_usual_permissions() {
     let mode = |p: &std::path::Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o777;
     assert_eq!(mode(&out), mode(&plain));
 }
+
+/// The ray budget's default, as `--help` and the scene schema tell it, is the one the tracer
+/// uses (they once said 100000 while it was 10000).
+#[test]
+fn the_ray_budgets_default_is_told_as_it_is() {
+    let told = format!("(default {})", rtlab::trace::DEFAULT_MAX_RAYS);
+    let help = rtlab(&["render", "--help"]);
+    let help = String::from_utf8_lossy(&help.stdout);
+    let max_rays = help
+        .split("--max-rays")
+        .nth(1)
+        .expect("render --help has --max-rays");
+    assert!(max_rays.contains(&told), "--max-rays help: {max_rays}");
+    let schema = std::fs::read_to_string(path("src/scene/schema.json")).unwrap();
+    let schema: serde_json::Value = serde_json::from_str(&schema).unwrap();
+    let text = schema.to_string();
+    let at = text
+        .find("Ray budget of one sample")
+        .expect("schema describes max_rays");
+    assert!(text[at..at + 60].contains(&told), "{}", &text[at..at + 60]);
+}
