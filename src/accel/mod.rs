@@ -30,6 +30,9 @@ pub enum AccelKind {
 }
 
 impl AccelKind {
+    /// The names `parse` accepts.
+    pub const NAMES: [&'static str; 2] = ["linear", "bvh"];
+
     pub fn parse(s: &str) -> Option<AccelKind> {
         match s {
             "linear" => Some(AccelKind::Linear),
@@ -48,6 +51,9 @@ pub enum Traversal {
 }
 
 impl Traversal {
+    /// The names `parse` accepts.
+    pub const NAMES: [&'static str; 2] = ["single", "bundle"];
+
     pub fn parse(s: &str) -> Option<Traversal> {
         match s {
             "single" => Some(Traversal::Single),

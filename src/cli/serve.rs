@@ -108,7 +108,10 @@ pub fn option_infos() -> Vec<OptionInfo> {
             "sampler" => crate::scene::SamplerKind::NAMES.to_vec(),
             "filter" => crate::scene::FilterKind::NAMES.to_vec(),
             "encoding" => vec!["clamp", "srgb"],
-            "accel" => vec!["linear", "bvh"],
+            "accel" => crate::accel::AccelKind::NAMES.to_vec(),
+            "traversal" => crate::accel::Traversal::NAMES.to_vec(),
+            "course-stage" => crate::scene::CourseStage::NAMES.to_vec(),
+            "texture-filter" => crate::shading::TextureFilter::NAMES.to_vec(),
             _ => Vec::new(),
         };
         v.into_iter().map(String::from).collect()

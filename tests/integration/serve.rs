@@ -356,6 +356,23 @@ fn scene_steps_options_and_events() {
         assert!(names.contains(&n), "{n} missing from {names:?}");
     }
     assert!(v["aov"].as_array().unwrap().iter().any(|a| a == "depth"));
+    // Every option that takes one of a few names offers them (the page shows a menu).
+    let choices = |name: &str| -> Vec<String> {
+        let o = v["render"].as_array().unwrap().iter();
+        let o = o.clone().find(|o| o["name"] == name);
+        let o = o.unwrap_or_else(|| panic!("{name} missing"));
+        let c = o["choices"].as_array().unwrap().iter();
+        c.map(|c| c.as_str().unwrap().to_string()).collect()
+    };
+    for (name, expected) in [
+        ("traversal", &["single", "bundle"][..]),
+        ("accel", &["linear", "bvh"]),
+        ("course-stage", &["intersect", "illuminate"]),
+        ("texture-filter", &["nearest", "bilinear"]),
+        ("encoding", &["clamp", "srgb"]),
+    ] {
+        assert_eq!(choices(name), expected, "{name}");
+    }
 
     // Steps: the captions, and each frame a PNG; past the end is a 400.
     let r = s.get("/api/steps?width=96&height=72");
