@@ -13,6 +13,12 @@ static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 fn main() -> ExitCode {
     rtlab::interrupt::install();
     let cli = rtlab::cli::Cli::parse(); // usage errors exit with status 2 from clap
+    if let Err(v) = rtlab::accel::isa::simd_cap() {
+        eprintln!(
+            "warning: RTLAB_SIMD={} names no SIMD level (base, avx2 or avx512): ignored, the widest this processor has is used",
+            rtlab::error::printable(&v)
+        );
+    }
     match rtlab::cli::run_outcome(cli, &mut std::io::stdout().lock()) {
         Ok(rtlab::cli::Outcome::Same) => ExitCode::SUCCESS,
         Ok(rtlab::cli::Outcome::Different) => ExitCode::from(1),

@@ -35,16 +35,30 @@ pub struct Args {
     /// spp.
     #[arg(long, value_name = "NAME")]
     pub aov: Option<String>,
-    /// Progressive rendering: write pass K of the sequence (1: subsampled preview, 2: the
-    /// scene's settings, k > 2: 4^(k-2) times its samples per pixel). Only pass K is traced.
-    /// With --time-budget: stop after pass K at the latest.
-    #[arg(long, value_name = "K", allow_negative_numbers = true)]
+    /// Progressive rendering: write pass K of the sequence (1: subsampled preview, 4 times
+    /// the scene's subsampling, at most 64; 2: the scene's settings; k > 2: 4^(k-2) times its
+    /// samples per pixel). Only pass K is traced. With --time-budget: stop after pass K at
+    /// the latest.
+    #[arg(long, value_name = "K", allow_negative_numbers = true, value_parser = pass_number)]
     pub passes: Option<u32>,
     /// Progressive rendering for about this long: passes 1, 2, 3, ... until the time is
-    /// spent (a pass is cut off within a pixel's time); writes the last complete pass (the
-    /// same bytes as --passes K, K printed).
+    /// spent (a pass after the first is cut off within a pixel's time; pass 1 always
+    /// completes, however long it takes); writes the last complete pass (the same bytes as
+    /// --passes K, K printed).
     #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
     pub time_budget: Option<f64>,
+}
+
+/// `--passes K`: a pass number, 1 or more (clap's own message for -1 named the range of a
+/// `u32`, 0 included).
+fn pass_number(s: &str) -> std::result::Result<u32, String> {
+    match s.trim().parse::<i64>() {
+        Ok(k) if k < 1 => Err("passes are numbered from 1".into()),
+        Ok(k) => {
+            u32::try_from(k).map_err(|_| format!("{k} is not a pass number (at most {})", u32::MAX))
+        }
+        Err(_) => Err(format!("\"{s}\" is not a pass number (1, 2, 3, ...)")),
+    }
 }
 
 /// The settings of progressive pass `k`, or an argument error saying why it cannot be made.
@@ -154,9 +168,6 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
         None => None,
         Some(name) => Some(Aov::parse_arg(name)?),
     };
-    if args.passes == Some(0) {
-        return Err(Error::arg("--passes", "passes are numbered from 1"));
-    }
     if let Some(t) = args.time_budget {
         if !(t.is_finite() && t > 0.0) {
             return Err(Error::arg(
@@ -231,8 +242,13 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
     }
     args.render
         .check_memory(&scene, &args.scene, scene.render.spp)?;
-    if let (Some(k), None) = (args.passes, args.time_budget) {
-        scene.render = pass_of(&scene, k)?;
+    // Pass K must exist, also as a budget's last pass (a cap it could never reach would be
+    // silently the same as no cap).
+    if let Some(k) = args.passes {
+        let pass = pass_of(&scene, k)?;
+        if args.time_budget.is_none() {
+            scene.render = pass;
+        }
     }
     let load = t0.elapsed().as_secs_f64();
     // The accelerators (scene level and each mesh's) were built, and timed, during load.
@@ -378,8 +394,15 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
             } else {
                 String::new()
             };
+            // A budgeted render's counts are its last pass's (the image written), not the sum.
+            let of_pass = match (args.time_budget, reached) {
+                (Some(_), Some((k, _))) => {
+                    format!("pass {k} (the image written; earlier passes not counted): ")
+                }
+                _ => String::new(),
+            };
             eprintln!(
-                "rays: {} camera, {} shadow, {} reflection, {} refraction, {} total\n\
+                "{of_pass}rays: {} camera, {} shadow, {} reflection, {} refraction, {} total\n\
                  intersection tests: {}, BVH nodes visited: {} ({:.1} per ray, {traversal} traversal)\n\
                  {bundle_line}\
                  time: load {:.3} s (of which building the BVHs {:.3} s), trace {:.3} s ({:.2} Mrays/s)",

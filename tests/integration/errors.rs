@@ -739,6 +739,36 @@ fn cases() -> Vec<Case> {
             vec!["argument --threads", "100000 is more than 1024"],
         ),
         c(
+            "an unknown --traversal",
+            s(obj(SPHERE)),
+            vec!["render", "scene.json", "--traversal", "zigzag"],
+            vec!["argument --traversal", "unknown traversal \"zigzag\"", "single or bundle"],
+        ),
+        c(
+            "pass 0",
+            s(obj(SPHERE)),
+            vec!["render", "scene.json", "--passes", "0"],
+            vec!["--passes", "passes are numbered from 1"],
+        ),
+        c(
+            "a last pass past the sample limit, beside a time budget",
+            s(obj(SPHERE)),
+            vec!["render", "scene.json", "--spp", "64", "--sampler", "jittered", "--time-budget", "5", "--passes", "11"],
+            vec!["argument --passes", "pass 11", "more than the limit of 65536"],
+        ),
+        c(
+            "a time budget of no time",
+            s(obj(SPHERE)),
+            vec!["render", "scene.json", "--time-budget", "0"],
+            vec!["argument --time-budget", "0 is not a time", "seconds > 0"],
+        ),
+        c(
+            "a time budget for an AOV",
+            s(obj(SPHERE)),
+            vec!["render", "scene.json", "--time-budget", "1", "--aov", "depth"],
+            vec!["argument --time-budget", "cannot be combined with --aov", "--passes K"],
+        ),
+        c(
             "an unknown --course-stage",
             s(obj(SPHERE)),
             vec!["render", "scene.json", "--course-stage", "raytrace"],

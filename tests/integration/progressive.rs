@@ -136,7 +136,8 @@ fn bad_pass_arguments_are_refused() {
     let scene = path("scenes/spheres.json");
     let out = tmp("bad-pass.png");
     for (args, want) in [
-        (vec!["--passes", "0"], "argument --passes"),
+        (vec!["--passes", "0"], "passes are numbered from 1"),
+        (vec!["--passes", "-1"], "passes are numbered from 1"),
         (vec!["--passes", "30"], "argument --passes"),
         (vec!["--time-budget", "0"], "argument --time-budget"),
         (
@@ -153,4 +154,72 @@ fn bad_pass_arguments_are_refused() {
         assert!(stderr(&o).contains(want), "{args:?}: {}", stderr(&o));
         assert!(!out.exists());
     }
+}
+
+/// A budgeted render's `--stats` says whose counts they are: the pass written, not the sum
+/// of the passes; and they are exactly `--passes K`'s counts.
+#[test]
+fn budgeted_stats_are_the_written_pass() {
+    let out = tmp("budget-stats.png");
+    let o = out.to_str().unwrap();
+    let args = [
+        "render",
+        "scenes/spheres.json",
+        "--width",
+        "40",
+        "--height",
+        "30",
+    ];
+    let budget = rtlab(
+        &[
+            &args[..],
+            &["--time-budget", "0.2", "--passes", "3", "--stats", "-o", o],
+        ]
+        .concat(),
+    );
+    assert!(budget.status.success(), "{}", stderr(&budget));
+    let text = stderr(&budget);
+    let line = text
+        .lines()
+        .find(|l| l.contains("rays:"))
+        .expect("a stats line");
+    assert!(
+        line.starts_with("pass 3 (the image written; earlier passes not counted): rays:"),
+        "{line}"
+    );
+    let passes = rtlab(&[&args[..], &["--passes", "3", "--stats", "-o", o]].concat());
+    let alone = stderr(&passes);
+    let counts = |t: &str| {
+        t.lines()
+            .find(|l| l.contains("rays:"))
+            .map(|l| l[l.find("rays:").unwrap()..].to_string())
+    };
+    assert_eq!(counts(&text), counts(&alone));
+}
+
+/// `RTLAB_SIMD` that names no level is ignored, with a warning (it once went unnoticed).
+#[test]
+fn an_unknown_simd_level_is_warned_of() {
+    let o = tmp("simd-bogus.png");
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_rtlab"))
+        .args([
+            "render",
+            "scenes/spheres.json",
+            "--width",
+            "16",
+            "--height",
+            "12",
+            "-o",
+        ])
+        .arg(&o)
+        .current_dir(root())
+        .env("RTLAB_SIMD", "bogus")
+        .output()
+        .unwrap();
+    assert!(run.status.success());
+    assert!(
+        stderr(&run).contains("warning: RTLAB_SIMD=bogus names no SIMD level"),
+        "{}",
+        stderr(&run)
+    );
 }

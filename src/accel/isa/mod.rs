@@ -110,16 +110,25 @@ pub enum Level {
     Avx512,
 }
 
-/// The widest [`Level`] this processor supports, detected once. `RTLAB_SIMD=base|avx2`
-/// caps it (for comparing the levels; any other value is ignored).
+/// The cap `RTLAB_SIMD` puts on the SIMD level: `Ok(None)` when unset, `Err` with the value
+/// when it names no level (ignored by [`level`]; the CLI warns of it).
+pub fn simd_cap() -> Result<Option<Level>, String> {
+    match std::env::var("RTLAB_SIMD") {
+        Err(std::env::VarError::NotPresent) => Ok(None),
+        Ok(v) if v == "base" => Ok(Some(Level::Base)),
+        Ok(v) if v == "avx2" => Ok(Some(Level::Avx2)),
+        Ok(v) if v == "avx512" => Ok(Some(Level::Avx512)),
+        Ok(v) => Err(v),
+        Err(std::env::VarError::NotUnicode(v)) => Err(v.to_string_lossy().into_owned()),
+    }
+}
+
+/// The widest [`Level`] this processor supports, detected once. `RTLAB_SIMD=base|avx2|avx512`
+/// caps it (for comparing the levels; any other value is ignored: [`simd_cap`]).
 pub fn level() -> Level {
     static LEVEL: std::sync::OnceLock<Level> = std::sync::OnceLock::new();
     *LEVEL.get_or_init(|| {
-        let cap = match std::env::var("RTLAB_SIMD").as_deref() {
-            Ok("base") => Level::Base,
-            Ok("avx2") => Level::Avx2,
-            _ => Level::Avx512,
-        };
+        let cap = simd_cap().ok().flatten().unwrap_or(Level::Avx512);
         let found = detected();
         if found.rank() <= cap.rank() {
             found
