@@ -34,8 +34,10 @@ pub struct Args {
     /// (the camera ray and its first reflection or refraction).
     #[arg(long, value_name = "camera|bounce", default_value = "camera")]
     pub diagram_plane: String,
-    /// Draw the 4×4 bundle of camera rays holding this pixel over the first mesh's BVH
-    /// (seen from above: the boxes it opened and the ones it culled) to this PNG.
+    /// Draw the bundle of camera rays in which the render traces this pixel's sample (the
+    /// one --sample chose, else 0): the rays of that sample of its 4×4 block of pixels, over
+    /// the first mesh's BVH (seen from above: the boxes it opened and the ones it culled),
+    /// to this PNG. Refused where the render traces no such bundle.
     #[arg(long, value_name = "OUT.png")]
     pub bundle_diagram: Option<PathBuf>,
     #[command(flatten)]
@@ -72,11 +74,6 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
     }
     let scene = args.render.load(&args.scene)?;
     let (x, y) = parse_pixel(&args.pixel, scene.camera.width, scene.camera.height)?;
-    if let Some(path) = &args.bundle_diagram {
-        crate::viz::bundle::draw(&scene, x, y)
-            .map_err(|m| Error::arg("--bundle-diagram", m))?
-            .write_png(path)?;
-    }
     let mut e = explain(&scene, x, y);
     // Ctrl-C inside a huge tree cuts it short: print nothing rather than a partial tree.
     crate::interrupt::check()?;
@@ -111,27 +108,42 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
     if let Some(k) = args.sample {
         e.samples.retain(|s| s.pixel == [x, y] && s.index == k);
     }
-    if let Some(path) = &args.diagram {
-        // The first sample of the pixel itself (the one --sample chose, if given).
-        let s = e
-            .samples
-            .iter()
-            .find(|s| s.pixel == [x, y])
-            .ok_or_else(|| {
-                Error::arg(
-                    "--diagram",
-                    format!(
-                        "{}: no ray to draw; pick a traced pixel",
-                        crate::report::explain::not_traced(x, y)
-                    ),
-                )
-            })?;
-        let opts = crate::viz::slice::SliceOptions {
-            plane,
-            caption: Some(format!("pixel ({x}, {y}), sample {}", s.index)),
-            ..Default::default()
-        };
-        crate::viz::slice::draw(&scene, &s.ray, &opts)?.write_png(path)?;
+    // Both figures are drawn before either is written: a refusal writes no file.
+    let bundle = match &args.bundle_diagram {
+        Some(path) => Some((
+            path,
+            crate::viz::bundle::draw(&scene, x, y, args.sample.unwrap_or(0))
+                .map_err(|m| Error::arg("--bundle-diagram", m))?,
+        )),
+        None => None,
+    };
+    let diagram = match &args.diagram {
+        Some(path) => {
+            // The first sample of the pixel itself (the one --sample chose, if given).
+            let s = e
+                .samples
+                .iter()
+                .find(|s| s.pixel == [x, y])
+                .ok_or_else(|| {
+                    Error::arg(
+                        "--diagram",
+                        format!(
+                            "{}: no ray to draw; pick a traced pixel",
+                            crate::report::explain::not_traced(x, y)
+                        ),
+                    )
+                })?;
+            let opts = crate::viz::slice::SliceOptions {
+                plane,
+                caption: Some(format!("pixel ({x}, {y}), sample {}", s.index)),
+                ..Default::default()
+            };
+            Some((path, crate::viz::slice::draw(&scene, &s.ray, &opts)?))
+        }
+        None => None,
+    };
+    for (path, figure) in bundle.iter().chain(&diagram) {
+        figure.write_png(path)?;
     }
     // `--mistake`: the pixel again without the mistakes, and what differs.
     if args.format == "json" {

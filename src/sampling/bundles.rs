@@ -1,10 +1,10 @@
-//! Bundles of camera rays: a tile's camera rays grouped into 4×4 blocks of pixels (one
-//! sample index at a time), each block's rays walking the BVHs together
+//! Bundles of camera rays: a tile's camera rays grouped into 4×4 blocks of pixels (of
+//! traced pixels, under `--subsample`; one sample index at a time), each block's rays walking the BVHs together
 //! ([`crate::accel::Accel::closest_bundle_into`]). Only the closest hits are found this way;
 //! the tracer then shades each sample as usual, from its hit ([`crate::trace::trace_camera`]).
 
-use super::sampler::{centre, only_centres, planned_films_into};
-use super::tiles::Tile;
+use super::sampler::{centre, only_centres, planned_films_into, traces_samples};
+use super::tiles::{Tile, TILE};
 use crate::accel::{BundleCost, BUNDLE};
 use crate::math::{Ray, Rng};
 use crate::scene::{RenderSettings, Scene};
@@ -116,8 +116,8 @@ impl TilePlan {
 }
 
 // ANCHOR: trace_bundled
-/// Traces every sample of `plan` in bundles: per SIDE×SIDE block of the tile's pixels and per
-/// sample index, the block's camera rays are made side by side ([`camera_rays`]), walked to
+/// Traces every sample of `plan` in bundles: per block of SIDE×SIDE of the tile's traced
+/// pixels ([`Blocks`]) and per sample index, the block's camera rays are made side by side ([`camera_rays`]), walked to
 /// their closest hits together ([`crate::accel::Accel::closest_bundle_into`]), and handed
 /// one by one, hit found, to
 /// `trace(l, (x, y), k, camera)` (the tile's pixel `l`, at (x, y), its sample `k`), which
@@ -134,54 +134,220 @@ pub fn trace_bundled(
     mut trace: impl FnMut(usize, (u32, u32), u32, &mut CameraRay, Found),
     mut block_done: impl FnMut(u64) -> bool,
 ) {
-    let tile_w = tile.x.len() as u32;
     // The block's camera rays, made side by side into `cams[..n]`; the placeholders past
     // them are never read.
-    let mut cams: [CameraRay; BUNDLE] = std::array::from_fn(|_| CameraRay {
-        ray: Ray::new(DVec3::ZERO, DVec3::Z),
-        film: DVec2::ZERO,
-        lens: None,
-        rng: Rng::keyed([0; 4]),
-    });
+    let mut cams: [CameraRay; BUNDLE] = std::array::from_fn(|_| unmade());
     let mut pixels: ArrayVec<(usize, (u32, u32)), BUNDLE> = ArrayVec::new();
     let mut block: ArrayVec<(usize, (u32, u32)), BUNDLE> = ArrayVec::new();
     let mut samples: ArrayVec<(u32, u32, u32, DVec2), BUNDLE> = ArrayVec::new();
     let mut hits = BundleHits::default();
-    for by in (tile.y.start..tile.y.end).step_by(SIDE as usize) {
-        for bx in (tile.x.start..tile.x.end).step_by(SIDE as usize) {
-            if settings.cancel.is_cancelled() {
-                return;
+    let blocks = Blocks::of(settings, (scene.camera.width, scene.camera.height), tile);
+    for (cols, rows) in blocks.iter() {
+        if settings.cancel.is_cancelled() {
+            return;
+        }
+        block_pixels(tile, (cols, rows), &mut block);
+        let most = block.iter().map(|&(l, _)| plan.samples_of(l)).max();
+        for k in 0..most.unwrap_or(0) {
+            block_samples(plan, &block, k, &mut pixels, &mut samples);
+            camera_rays(scene, settings, &samples, &mut cams);
+            let cams = &mut cams[..pixels.len()];
+            hits.find(scene, cams, tally);
+            for (j, (cam, &(l, xy))) in cams.iter_mut().zip(&pixels).enumerate() {
+                trace(l, xy, k, cam, hits.found(j));
             }
-            // The block's pixels: the tile's pixel index and where it is on the image.
-            block.clear();
-            for y in by..(by + SIDE).min(tile.y.end) {
-                for x in bx..(bx + SIDE).min(tile.x.end) {
-                    let l = ((y - tile.y.start) * tile_w + (x - tile.x.start)) as usize;
-                    block.push((l, (x, y)));
-                }
-            }
-            let most = block.iter().map(|&(l, _)| plan.samples_of(l)).max();
-            for k in 0..most.unwrap_or(0) {
-                pixels.clear();
-                samples.clear();
-                for &(l, (x, y)) in block.iter().filter(|&&(l, _)| k < plan.samples_of(l)) {
-                    samples.push((x, y, k, plan.sample(l, (x, y), k).0));
-                    pixels.push((l, (x, y)));
-                }
-                camera_rays(scene, settings, &samples, &mut cams);
-                let cams = &mut cams[..pixels.len()];
-                hits.find(scene, cams, tally);
-                for (j, (cam, &(l, xy))) in cams.iter_mut().zip(&pixels).enumerate() {
-                    trace(l, xy, k, cam, hits.found(j));
-                }
-            }
-            if !block_done(block.len() as u64) {
-                return;
-            }
+        }
+        if !block_done(cols.span.len() as u64 * rows.span.len() as u64) {
+            return;
         }
     }
 }
 // ANCHOR_END: trace_bundled
+
+/// A placeholder for a camera ray not made yet ([`camera_rays`] overwrites it).
+fn unmade() -> CameraRay {
+    CameraRay {
+        ray: Ray::new(DVec3::ZERO, DVec3::Z),
+        film: DVec2::ZERO,
+        lens: None,
+        rng: Rng::keyed([0; 4]),
+    }
+}
+
+/// One group of a tile's traced columns (or rows): up to SIDE of them, standing for the
+/// tile's lines `span` (from the group's first line to the next group's first; the first
+/// group from the tile's edge, the last to its other edge).
+struct Lines {
+    traced: ArrayVec<u32, { SIDE as usize }>,
+    span: std::ops::Range<u32>,
+}
+
+/// A tile's blocks: its traced columns and rows ([`traces_samples`]) taken SIDE at a time. A
+/// block, columns × rows of one group each, holds up to SIDE×SIDE traced pixels and stands
+/// for the tile's pixels of the groups' spans. Without `--subsample` every pixel traces and
+/// the blocks are the tile's SIDE×SIDE squares; under `--subsample K` a block of SIDE traced
+/// columns and rows stands for about (K·SIDE)² pixels and still holds a full bundle (the
+/// progressive preview, `--subsample` 4, would otherwise trace bundles of one ray). A tile
+/// with no traced column or row is one empty block, so that its pixels still count as done.
+struct Blocks {
+    cols: ArrayVec<Lines, { (TILE / SIDE) as usize }>,
+    rows: ArrayVec<Lines, { (TILE / SIDE) as usize }>,
+}
+
+impl Blocks {
+    fn of(settings: &RenderSettings, (width, height): (u32, u32), tile: &Tile) -> Blocks {
+        // Row 0 and column 0 always trace: column x traces where pixel (x, 0) does.
+        Blocks {
+            cols: groups(tile.x.clone(), |x| {
+                traces_samples(settings, width, height, x, 0)
+            }),
+            rows: groups(tile.y.clone(), |y| {
+                traces_samples(settings, width, height, 0, y)
+            }),
+        }
+    }
+
+    /// The blocks, row by row: (columns, rows).
+    fn iter(&self) -> impl Iterator<Item = (&Lines, &Lines)> {
+        self.rows
+            .iter()
+            .flat_map(move |r| self.cols.iter().map(move |c| (c, r)))
+    }
+}
+
+/// The traced pixels of the block of columns `cols` and rows `rows` into `block`, row by row:
+/// each one's index in the tile and where it is on the image.
+#[inline(always)]
+fn block_pixels(
+    tile: &Tile,
+    (cols, rows): (&Lines, &Lines),
+    block: &mut ArrayVec<(usize, (u32, u32)), BUNDLE>,
+) {
+    let tile_w = tile.x.len() as u32;
+    block.clear();
+    for &y in &rows.traced {
+        for &x in &cols.traced {
+            let l = ((y - tile.y.start) * tile_w + (x - tile.x.start)) as usize;
+            block.push((l, (x, y)));
+        }
+    }
+}
+
+/// The traced lines of `range` (`traced(line)`), SIDE at a time ([`Lines`]); one empty group
+/// spanning the whole range when none traces.
+fn groups(
+    range: std::ops::Range<u32>,
+    traced: impl Fn(u32) -> bool,
+) -> ArrayVec<Lines, { (TILE / SIDE) as usize }> {
+    let mut groups: ArrayVec<Lines, { (TILE / SIDE) as usize }> = ArrayVec::new();
+    for line in range.clone().filter(|&l| traced(l)) {
+        match groups.last_mut() {
+            Some(g) if !g.traced.is_full() => g.traced.push(line),
+            last => {
+                if let Some(g) = last {
+                    g.span.end = line;
+                }
+                let start = if groups.is_empty() { range.start } else { line };
+                let mut traced = ArrayVec::new();
+                traced.push(line);
+                groups.push(Lines {
+                    traced,
+                    span: start..range.end,
+                });
+            }
+        }
+    }
+    if groups.is_empty() {
+        groups.push(Lines {
+            traced: ArrayVec::new(),
+            span: range,
+        });
+    }
+    groups
+}
+
+/// The bundle of sample index `k` of `block`: the block's pixels that have a sample `k` in
+/// `plan` (those `--subsample` skips have none), into `pixels`, and their samples (pixel x,
+/// y, `k`, film position), as [`camera_rays`] takes them, into `samples`.
+#[inline(always)]
+fn block_samples(
+    plan: &TilePlan,
+    block: &[(usize, (u32, u32))],
+    k: u32,
+    pixels: &mut ArrayVec<(usize, (u32, u32)), BUNDLE>,
+    samples: &mut ArrayVec<(u32, u32, u32, DVec2), BUNDLE>,
+) {
+    pixels.clear();
+    samples.clear();
+    for &(l, (x, y)) in block.iter().filter(|&&(l, _)| k < plan.samples_of(l)) {
+        samples.push((x, y, k, plan.sample(l, (x, y), k).0));
+        pixels.push((l, (x, y)));
+    }
+}
+
+/// One bundle of camera rays as a render traces it ([`bundle_of`]): ray `i` is the camera
+/// ray (world space) of sample `sample` of pixel `pixels[i]`.
+#[derive(Debug, Clone)]
+pub struct Bundle {
+    pub sample: u32,
+    pub pixels: Vec<(u32, u32)>,
+    pub rays: Vec<Ray>,
+}
+
+/// Why a render traces no bundle holding a given sample ([`bundle_of`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NoBundle {
+    /// `--traversal single`: every camera ray walks the BVHs alone.
+    Single,
+    /// `--traversal bundle`, but the camera rays go alone all the same ([`alone_because`]).
+    Alone(&'static str),
+    /// The pixel has no such sample (`--subsample` skips the pixel, or it has fewer).
+    NoSample,
+}
+
+/// The bundle in which a render with `settings` traces sample `k` of pixel (x, y): the
+/// pixel's block of its tile, the block's pixels that have a sample `k`, and their camera
+/// rays, found by the code [`trace_bundled`] runs (the tile's plan, its blocks, their
+/// samples, [`camera_rays`]). Fails with the reason when the render traces no such bundle.
+/// Plans the pixel's whole tile: for one figure, not in a loop.
+pub fn bundle_of(
+    scene: &Scene,
+    settings: &RenderSettings,
+    (x, y): (u32, u32),
+    k: u32,
+) -> Result<Bundle, NoBundle> {
+    if settings.traversal != crate::accel::Traversal::Bundle {
+        return Err(NoBundle::Single);
+    }
+    if let Some(why) = alone_because(settings) {
+        return Err(NoBundle::Alone(why));
+    }
+    let (w, h) = (scene.camera.width, scene.camera.height);
+    let tile = super::tiles::tiles(w, h)
+        .into_iter()
+        .find(|t| t.x.contains(&x) && t.y.contains(&y))
+        .ok_or(NoBundle::NoSample)?;
+    let plan = TilePlan::new(settings, w, h, &tile).ok_or(NoBundle::NoSample)?;
+    let mut block = ArrayVec::new();
+    let (mut pixels, mut samples) = (ArrayVec::new(), ArrayVec::new());
+    for b in Blocks::of(settings, (w, h), &tile).iter() {
+        block_pixels(&tile, b, &mut block);
+        if block.iter().any(|&(_, p)| p == (x, y)) {
+            break;
+        }
+    }
+    block_samples(&plan, &block, k, &mut pixels, &mut samples);
+    if !pixels.iter().any(|&(_, p)| p == (x, y)) {
+        return Err(NoBundle::NoSample);
+    }
+    let mut cams: Vec<CameraRay> = (0..samples.len()).map(|_| unmade()).collect();
+    camera_rays(scene, settings, &samples, &mut cams);
+    Ok(Bundle {
+        sample: k,
+        pixels: pixels.iter().map(|&(_, p)| p).collect(),
+        rays: cams.iter().map(|c| c.ray).collect(),
+    })
+}
 
 /// One bundle's results: each camera ray's closest hit and its share of the work.
 struct BundleHits {

@@ -7,10 +7,9 @@ use super::canvas::{Anchor, Canvas};
 use super::style;
 use crate::accel::{BundleWork, BUNDLE};
 use crate::math::Ray;
-use crate::sampling::bundles::SIDE;
+use crate::sampling::bundles::{bundle_of, NoBundle};
 use crate::scene::Scene;
 use crate::shapes::{Aabb, LocalHit, Shape};
-use crate::trace::camera_ray;
 use glam::{DVec2, DVec3};
 
 /// Figure size in pixels.
@@ -20,9 +19,13 @@ const H: f32 = 480.0;
 /// read).
 const LEVELS: usize = 2;
 
-/// Draws the bundle of pixel (x, y): the 4×4 block of pixels holding it, one camera ray
-/// through each pixel centre, walking the first mesh of the scene.
-pub fn draw(scene: &Scene, x: u32, y: u32) -> Result<Canvas, String> {
+/// Draws the bundle in which a render with the scene's settings traces sample `k` of pixel
+/// (x, y) ([`bundle_of`]: the renderer's own block and rays, the block's pixels that trace a
+/// sample `k`), walking the first mesh of the scene. Fails, with a message naming the reason,
+/// when the scene has no mesh or the render traces no such bundle: `--traversal single`, a
+/// reason the camera rays go alone ([`crate::sampling::bundles::alone_because`]), or a pixel
+/// with no sample `k` (one `--subsample` skips).
+pub fn draw(scene: &Scene, x: u32, y: u32, k: u32) -> Result<Canvas, String> {
     let (object, mesh) = scene
         .objects
         .iter()
@@ -31,16 +34,24 @@ pub fn draw(scene: &Scene, x: u32, y: u32) -> Result<Canvas, String> {
             _ => None,
         })
         .ok_or("the bundle figure needs a scene with a mesh")?;
-    let (w, h) = (scene.camera.width, scene.camera.height);
-    let (x0, y0) = (x / SIDE * SIDE, y / SIDE * SIDE);
-    let mut rays: Vec<Ray> = Vec::with_capacity(BUNDLE);
-    for py in y0..(y0 + SIDE).min(h) {
-        for px in x0..(x0 + SIDE).min(w) {
-            let film = DVec2::new(px as f64 + 0.5, py as f64 + 0.5);
-            let world = camera_ray(scene, &scene.render, px, py, 0, film).ray;
-            rays.push(object.transform.ray_to_object(&world));
-        }
-    }
+    let bundle = bundle_of(scene, &scene.render, (x, y), k).map_err(|why| match why {
+        NoBundle::Single => "no bundle to draw: with --traversal single every camera ray walks \
+            the BVHs alone (the default, --traversal bundle, traces bundles)"
+            .to_string(),
+        NoBundle::Alone(why) => format!(
+            "no bundle to draw: {why}, so the render's camera rays go alone even with \
+            --traversal bundle"
+        ),
+        NoBundle::NoSample => format!(
+            "{}: no bundle to draw; pick a traced pixel",
+            crate::report::explain::not_traced(x, y)
+        ),
+    })?;
+    let rays: Vec<Ray> = bundle
+        .rays
+        .iter()
+        .map(|r| object.transform.ray_to_object(r))
+        .collect();
     let n = rays.len();
     // The walk itself, recording every tested child: (node, lane) -> rays that entered it.
     let mut tested: Vec<(usize, usize, u32)> = Vec::new();
@@ -80,15 +91,24 @@ pub fn draw(scene: &Scene, x: u32, y: u32) -> Result<Canvas, String> {
     };
 
     let mut c = Canvas::new(W as u32, H as u32, style::background());
-    // One panel per level: the boxes the bundle tested there, the root's outline around
-    // them, and the rays.
+    // One panel per level: its frame, the boxes the bundle tested there, the root's outline
+    // around them, and the rays, every one clipped to the frame.
     let panel_w = (W - 2.0 * SIDE_MARGIN - GAP) / 2.0;
     for level in 0..LEVELS {
         let x0 = SIDE_MARGIN + level as f32 * (panel_w + GAP);
-        let view = Panel::fit(&b, (x0, TOP + 26.0), (panel_w, H - TOP - 26.0 - BOTTOM));
+        let view = Panel::fit(
+            &b,
+            (x0, TOP + PANEL_DROP),
+            (panel_w, H - TOP - PANEL_DROP - BOTTOM),
+        );
+        c.rect(view.at, view.size, Some((style::grid(), 1.0)), None);
         let (entered, culled) = (counts(level, true), counts(level, false));
         let heading = match level {
             0 => format!("1. The root's four children: {entered} entered, {culled} culled"),
+            _ if entered + culled == 0 => format!(
+                "{}. One level down: nothing to test (no ray entered a box above)",
+                level + 1
+            ),
             _ => format!(
                 "{}. One level down, in the boxes entered: {entered} entered, {culled} culled",
                 level + 1
@@ -120,18 +140,23 @@ pub fn draw(scene: &Scene, x: u32, y: u32) -> Result<Canvas, String> {
     c.text(
         (SIDE_MARGIN, 22.0),
         &format!(
-            "A bundle of {n} camera rays (pixels x {x0}–{}, y {y0}–{}) walking the mesh's BVH, seen from above",
-            x0 + SIDE - 1,
-            y0 + SIDE - 1
+            "A bundle of {n} camera rays walking the mesh's BVH, seen from above: sample {} of {}",
+            bundle.sample,
+            pixels_caption(&bundle.pixels)
         ),
         15.0,
         style::ink(),
         Anchor::Left,
     );
+    let subsampled = match scene.render.subsample {
+        0 | 1 => String::new(),
+        k => format!(" (--subsample {k}: only the block's traced pixels)"),
+    };
     c.text(
         (SIDE_MARGIN, 44.0),
         &format!(
-            "object-space x (right) and z (down); the rays come from the camera (bottom); {hit_count} of {n} rays hit (red dots)"
+            "object-space x (right) and z (down); the rays come from the camera ({}){subsampled}; {hit_count} of {n} rays hit (red dots)",
+            coming_from(&rays)
         ),
         12.0,
         style::ink(),
@@ -167,7 +192,7 @@ pub fn draw(scene: &Scene, x: u32, y: u32) -> Result<Canvas, String> {
     );
     c.text(
         (SIDE_MARGIN, H - 34.0),
-        "Seen from above, a ray can seem to cross a culled box it passes over or under (y is not drawn); rays in one pixel column overlap.",
+        "Seen from above, a ray can seem to cross a culled box it passes over or under (y is not drawn); rays at the same film x overlap.",
         11.0,
         style::ink(),
         Anchor::Left,
@@ -175,8 +200,9 @@ pub fn draw(scene: &Scene, x: u32, y: u32) -> Result<Canvas, String> {
     c.text(
         (SIDE_MARGIN, H - 14.0),
         &format!(
-            "The whole walk: the bundle opened {} nodes, each once for all its rays; its rays made {} slab tests (a ray against a node's four boxes), in it or alone.",
+            "The whole walk: the bundle opened {} node{}, each once for all its rays; its rays made {} slab tests (a ray against a node's four boxes), in it or alone.",
             work.opened,
+            if work.opened == 1 { "" } else { "s" },
             work.ray_nodes.iter().sum::<u32>()
         ),
         11.0,
@@ -191,6 +217,45 @@ const SIDE_MARGIN: f32 = 24.0;
 const GAP: f32 = 28.0;
 const TOP: f32 = 106.0;
 const BOTTOM: f32 = 52.0;
+/// From the top of a panel's heading to the top of its frame.
+const PANEL_DROP: f32 = 22.0;
+
+/// The bundle's pixels for the title: "pixels x 8–10, y 4–7" for a block of whole rows and
+/// columns (a range where they are consecutive, "320/322" where `--subsample` skips some),
+/// "N pixels within x …, y …" when they do not fill their rows and columns.
+fn pixels_caption(pixels: &[(u32, u32)]) -> String {
+    let values = |of: fn(&(u32, u32)) -> u32| {
+        let mut v: Vec<u32> = pixels.iter().map(of).collect();
+        v.sort_unstable();
+        v.dedup();
+        v
+    };
+    let (xs, ys) = (values(|p| p.0), values(|p| p.1));
+    let list = |v: &[u32]| match v {
+        [] => String::new(),
+        [a] => a.to_string(),
+        [a, .., z] if z - a + 1 == v.len() as u32 => format!("{a}–{z}"),
+        _ => v.iter().map(u32::to_string).collect::<Vec<_>>().join("/"),
+    };
+    let (x, y) = (list(&xs), list(&ys));
+    match pixels.len() {
+        1 => format!("pixel ({x}, {y})"),
+        n if n == xs.len() * ys.len() => format!("pixels x {x}, y {y}"),
+        n => format!("{n} pixels within x {x}, y {y}"),
+    }
+}
+
+/// Which side of the figure the rays come in from (object-space x right, z down): the
+/// opposite of where their summed direction points.
+fn coming_from(rays: &[Ray]) -> &'static str {
+    let d: DVec3 = rays.iter().map(|r| r.dir).sum();
+    match (d.x.abs() > d.z.abs(), d.x > 0.0, d.z > 0.0) {
+        (true, true, _) => "left",
+        (true, false, _) => "right",
+        (false, _, true) => "top",
+        (false, _, false) => "bottom",
+    }
+}
 
 fn entered_fill() -> tiny_skia::Color {
     style::rgba(90, 140, 200, 60)
@@ -201,7 +266,8 @@ fn culled_color() -> tiny_skia::Color {
     style::rgb(110, 110, 120)
 }
 
-/// One panel: the mesh's box (x right, z down) fitted into a rectangle of the figure.
+/// One panel: the mesh's box (x right, z down) and a margin around it, fitted into a
+/// rectangle of the figure; what it draws is clipped to its frame (`at`, `size`).
 struct Panel {
     at: (f32, f32),
     size: (f32, f32),
@@ -216,11 +282,13 @@ impl Panel {
         let extent =
             DVec2::new(b.max.x - b.min.x, b.max.z - b.min.z).max(DVec2::splat(1e-9)) * 1.08;
         let scale = (size.0 as f64 / extent.x).min(size.1 as f64 / extent.y);
+        // The frame hugs the root's box and its margin, centred across the space given.
+        let fitted = ((extent.x * scale) as f32, (extent.y * scale) as f32);
         Panel {
-            at,
-            size,
+            at: (at.0 + (size.0 - fitted.0) * 0.5, at.1),
+            size: fitted,
             centre: DVec2::new(b.min.x + b.max.x, b.min.z + b.max.z) * 0.5,
-            half: DVec2::new(size.0 as f64, size.1 as f64) / scale * 0.5,
+            half: extent * 0.5,
             scale,
         }
     }

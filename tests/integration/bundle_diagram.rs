@@ -1,0 +1,282 @@
+//! `explain --bundle-diagram`: the figure draws the bundle the render traces, with the render's
+//! options (its sampler, `--sample`, `--subsample`, image size), the very rays
+//! `trace_bundled` makes; it refuses, writing nothing, where the render traces no bundle;
+//! and everything it draws stays inside its panels.
+
+use super::common::*;
+use rtlab::accel::Traversal;
+use rtlab::sampling::bundles::{bundle_of, trace_bundled, BundleTally, NoBundle, TilePlan};
+use rtlab::scene::SamplerKind;
+use rtlab::viz::canvas::Prim;
+
+/// `explain scenes/teapot.json` with `args`, the figure to `out`.
+fn explain_bundle(out: &std::path::Path, args: &[&str]) -> std::process::Output {
+    let mut all = vec!["explain", "scenes/teapot.json"];
+    all.extend_from_slice(args);
+    all.extend_from_slice(&["--bundle-diagram", out.to_str().unwrap()]);
+    rtlab(&all)
+}
+
+/// Where the render traces no bundle holding the pixel's sample, the figure is refused: exit
+/// 2, one message naming --bundle-diagram and the reason, no file (nor --diagram's).
+#[test]
+fn refused_where_the_render_traces_no_bundle() {
+    for (what, args, reason) in [
+        (
+            "single traversal",
+            vec!["--pixel", "320,240", "--traversal", "single"],
+            "with --traversal single every camera ray walks the BVHs alone",
+        ),
+        (
+            "adaptive sampler",
+            vec!["--pixel", "320,240", "--sampler", "adaptive", "--spp", "4"],
+            "the adaptive sampler decides its samples while it traces, so the render's \
+             camera rays go alone even with --traversal bundle",
+        ),
+        (
+            "a mistake that changes hits",
+            vec!["--pixel", "320,240", "--mistake", "cap-radius"],
+            "a mistake that changes which object a ray hits is on",
+        ),
+        (
+            "a pixel --subsample skips",
+            vec!["--pixel", "321,241", "--subsample", "2"],
+            "pixel (321, 241) traces no samples of its own (it is filled in by --subsample): \
+             no bundle to draw; pick a traced pixel",
+        ),
+    ] {
+        let out = tmp(&format!("refused-{}.png", what.replace(' ', "-")));
+        let o = explain_bundle(&out, &args);
+        assert_eq!(o.status.code(), Some(2), "{what}: {}", stderr(&o));
+        let err = stderr(&o);
+        assert!(
+            err.contains("argument --bundle-diagram: ") && err.contains(reason),
+            "{what}: {err}"
+        );
+        assert_eq!(err.trim().lines().count(), 1, "{what}: one message: {err}");
+        assert!(!out.exists(), "{what}: a refused figure writes no file");
+    }
+    // Asked for both figures at an untraced pixel: neither is written.
+    let (fig, slice) = (tmp("both-bundle.png"), tmp("both-slice.png"));
+    let o = explain_bundle(
+        &fig,
+        &[
+            "--pixel",
+            "321,241",
+            "--subsample",
+            "2",
+            "--diagram",
+            slice.to_str().unwrap(),
+        ],
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(!fig.exists() && !slice.exists());
+    // A --sample the pixel does not have: refused before any figure is written.
+    let bad = tmp("bad-sample.png");
+    let o = explain_bundle(&bad, &["--pixel", "320,240", "--sample", "1"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("--sample") && !bad.exists());
+}
+
+/// The figure follows the render's options: another sample of a grid sampler, a subsampled
+/// block, another image size each give another figure; the same options the same bytes.
+#[test]
+fn the_figure_follows_the_render_options() {
+    let draw = |name: &str, args: &[&str]| {
+        let out = tmp(name);
+        let o = explain_bundle(&out, args);
+        assert!(o.status.success(), "{name}: {}", stderr(&o));
+        std::fs::read(&out).unwrap()
+    };
+    let small = ["--width", "64", "--height", "48", "--max-depth", "0"];
+    let with = |more: &[&'static str]| [&small[..], &["--pixel", "33,24"], more].concat();
+    let centre = draw("follow-centre.png", &with(&[]));
+    assert_eq!(centre, draw("follow-centre-again.png", &with(&[])));
+    let grid = |k: &'static str| {
+        draw(
+            &format!("follow-grid-{k}.png"),
+            &with(&["--sampler", "grid", "--spp", "4", "--sample", k]),
+        )
+    };
+    let (g0, g3) = (grid("0"), grid("3"));
+    assert_ne!(g0, g3, "sample 3's rays are not sample 0's");
+    assert_ne!(g0, centre, "a grid sample is not the pixel centre");
+    let sub = draw("follow-sub.png", &with(&["--subsample", "3"]));
+    assert_ne!(
+        sub, centre,
+        "a subsampled block holds only its traced pixels"
+    );
+}
+
+/// The figure's text, from its display list.
+fn texts(c: &rtlab::viz::canvas::Canvas) -> Vec<String> {
+    c.display
+        .iter()
+        .filter_map(|p| match p {
+            Prim::Text { text, .. } => Some(text.clone()),
+            _ => None,
+        })
+        .collect()
+}
+
+/// A block cut by the image's edge: an 11×9 image's pixel (10, 7) is in the block of columns
+/// 8–10 (there is no column 11) and rows 4–7, 12 rays; the title says so, and every ray,
+/// box and dot lies inside its panel's frame.
+#[test]
+fn a_clipped_block_is_captioned_by_its_pixels_and_drawn_inside_its_panels() {
+    let mut scene = scene("scenes/teapot.json");
+    scene.camera.update_size(11, 9);
+    let b = bundle_of(&scene, &scene.render, (10, 7), 0).unwrap();
+    let want: Vec<(u32, u32)> = (4..8).flat_map(|y| (8..11).map(move |x| (x, y))).collect();
+    assert_eq!(b.pixels, want);
+    let c = rtlab::viz::bundle::draw(&scene, 10, 7, 0).unwrap();
+    let all = texts(&c).join("\n");
+    assert!(
+        all.contains("A bundle of 12 camera rays")
+            && all.contains("sample 0 of pixels x 8–10, y 4–7"),
+        "{all}"
+    );
+    assert!(!all.contains("8–11"), "{all}");
+    in_frames(&c);
+    // Subsampled by 2, the block holds four traced columns and rows, every other one: a
+    // full bundle over 8×8 pixels.
+    let mut sub = scene_teapot();
+    sub.render.subsample = 2;
+    let all = texts(&rtlab::viz::bundle::draw(&sub, 320, 240, 0).unwrap()).join("\n");
+    assert!(
+        all.contains("A bundle of 16 camera rays")
+            && all.contains("sample 0 of pixels x 320/322/324/326, y 240/242/244/246"),
+        "{all}"
+    );
+    // The teapot at its own size: the rays come from below the mesh, clipped to the frame.
+    let scene = scene_teapot();
+    in_frames(&rtlab::viz::bundle::draw(&scene, 320, 240, 0).unwrap());
+}
+
+fn scene_teapot() -> rtlab::scene::Scene {
+    scene("scenes/teapot.json")
+}
+
+/// Every line and dot of `c` lies inside one of its panel frames (the rectangles drawn in
+/// the grid colour), up to half a line's width.
+fn in_frames(c: &rtlab::viz::canvas::Canvas) {
+    let frames: Vec<([f32; 2], [f32; 2])> = c
+        .display
+        .iter()
+        .filter_map(|p| match p {
+            Prim::Rect {
+                min,
+                size,
+                stroke: Some(s),
+                fill: None,
+            } if s == "#e4e4ea" => Some((*min, *size)),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(frames.len(), 2, "one frame per panel");
+    let inside = |p: [f32; 2], slack: f32| {
+        frames.iter().any(|(min, size)| {
+            p[0] >= min[0] - slack
+                && p[0] <= min[0] + size[0] + slack
+                && p[1] >= min[1] - slack
+                && p[1] <= min[1] + size[1] + slack
+        })
+    };
+    let (mut lines, mut dots) = (0, 0);
+    for p in &c.display {
+        match p {
+            // The legend's sample line sits above the panels; everything below them is text.
+            Prim::Line { from, to, .. } if from[1] > frames[0].0[1] - 1.0 => {
+                assert!(
+                    inside(*from, 0.2) && inside(*to, 0.2),
+                    "{p:?} leaves its panel"
+                );
+                lines += 1;
+            }
+            Prim::Circle { center, .. } => {
+                assert!(inside(*center, 0.0), "{p:?} outside the panels");
+                dots += 1;
+            }
+            Prim::Rect {
+                min, size, fill, ..
+            } if fill.is_some() && min[1] > frames[0].0[1] - 1.0 => {
+                let max = [min[0] + size[0], min[1] + size[1]];
+                assert!(
+                    inside(*min, 1.0) && inside(max, 1.0),
+                    "{p:?} leaves its panel"
+                );
+            }
+            _ => {}
+        }
+    }
+    assert!(lines > 0 && dots > 0, "rays and hits drawn");
+}
+
+/// The figure's bundle is the render's: for sample `k` of a pixel, `bundle_of` gives exactly
+/// the pixels and camera rays (to the bit) `trace_bundled` traces together for its tile, with
+/// a grid sampler and subsampling on an image whose edge cuts the blocks.
+#[test]
+fn bundle_of_is_the_bundle_the_render_traces() {
+    let mut scene = scene_teapot();
+    scene.camera.update_size(37, 29);
+    for (sampler, spp, subsample) in [
+        (SamplerKind::Center, 1, 1),
+        (SamplerKind::Grid, 4, 1),
+        (SamplerKind::Jittered, 4, 2),
+        (SamplerKind::Corners, 1, 1),
+        (SamplerKind::Center, 1, 3),
+    ] {
+        let mut s = scene.render.clone();
+        (s.sampler, s.spp, s.subsample, s.traversal) = (sampler, spp, subsample, Traversal::Bundle);
+        let (w, h) = (scene.camera.width, scene.camera.height);
+        for tile in rtlab::sampling::tiles(w, h) {
+            let plan = TilePlan::new(&s, w, h, &tile).unwrap();
+            // The bundles as traced: runs of one sample index within a block (a block's end
+            // marked by an empty bundle, so that the next block starts a new one).
+            let traced = std::cell::RefCell::new(vec![(u32::MAX, vec![], vec![])]);
+            trace_bundled(
+                &scene,
+                &s,
+                &tile,
+                &plan,
+                &mut BundleTally::default(),
+                |_, xy, k, cam, _| {
+                    let mut t = traced.borrow_mut();
+                    if t.last().unwrap().0 != k {
+                        t.push((k, vec![], vec![]));
+                    }
+                    let b = t.last_mut().unwrap();
+                    b.1.push(xy);
+                    b.2.push(cam.ray);
+                },
+                |_| {
+                    traced.borrow_mut().push((u32::MAX, vec![], vec![]));
+                    true
+                },
+            );
+            let mut traced = traced.into_inner();
+            traced.retain(|b| b.0 != u32::MAX);
+            for (k, pixels, rays) in &traced {
+                for &xy in pixels.iter().step_by(3) {
+                    let b = bundle_of(&scene, &s, xy, *k).unwrap();
+                    assert_eq!(&b.pixels, pixels, "{sampler:?} {xy:?} sample {k}");
+                    assert_eq!(b.sample, *k);
+                    assert_eq!(b.rays.len(), rays.len());
+                    for (a, r) in b.rays.iter().zip(rays) {
+                        assert!(
+                            a.origin == r.origin && a.dir == r.dir,
+                            "{sampler:?} {xy:?} sample {k}: another ray"
+                        );
+                    }
+                }
+            }
+        }
+        // An untraced pixel has no bundle.
+        if subsample > 1 {
+            assert_eq!(
+                bundle_of(&scene, &s, (1, 1), 0).unwrap_err(),
+                NoBundle::NoSample
+            );
+        }
+    }
+}
