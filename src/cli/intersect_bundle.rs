@@ -5,12 +5,14 @@
 //!
 //! `--format json` (an addition to DESIGN §3's `intersect` output, only with `--bundle-to`):
 //! `{"shape": "box", "box": {"min", "max"}, "rays": [{"origin", "direction", "lane_test",
-//! "own_test", "t_enter"}], "sign_coherent", "shared_origin", "interval_test": {"axes":
-//! [null | {"entry", "exit"}] (x, y, z), "together": null | {"entry", "exit"}, "kept": null
-//! | bool}}`. The bounds and `t_enter` are the `f32`
+//! "own_test", "t_enter"}], "sign_coherent", "sign_coherent_axes", "shared_origin",
+//! "interval_test": {"axes": [null | {"entry", "exit"}] (x, y, z), "together": null |
+//! {"entry", "exit"}, "kept": null | bool}}`. The bounds and `t_enter` are the `f32`
 //! values the walk computes (the origins and directions are the f64 rays, as given);
 //! `t_enter` is null for a ray that misses; `lane_test`, `together` and `kept` are null
-//! when the bundle is not sign-coherent (no bundle test is made).
+//! when the bundle is not sign-coherent (no bundle test is made). `sign_coherent_axes`
+//! (added later; fields are only ever added) is `[bool; 3]`, x, y, z: false for an axis
+//! along which the directions change sign; `sign_coherent` is all three.
 
 use super::intersect_args::{bounded_vec3, box_corners, direction, Args, MIN_LENGTH};
 use super::{emit, parse_list};
@@ -85,6 +87,7 @@ struct Json {
     bounds: BoxJson,
     rays: Vec<RayJson>,
     sign_coherent: bool,
+    sign_coherent_axes: [bool; 3],
     shared_origin: bool,
     interval_test: IntervalJson,
 }
@@ -136,6 +139,7 @@ fn json(rays: &[Ray], w: &BundleWorking) -> String {
             })
             .collect(),
         sign_coherent: w.coherent,
+        sign_coherent_axes: w.coherent_axes,
         shared_origin: w.shared_origin,
         interval_test: IntervalJson {
             axes: w
@@ -183,9 +187,13 @@ pub fn text(rays: &[Ray], w: &BundleWorking) -> String {
     let Some(kept) = w.kept else {
         let _ = writeln!(
             s,
-            "  the directions change sign along some axis: the bundle is not sign-coherent,\n  \
-             so there is no interval test; the walk sends each of these rays alone"
+            "  the directions change sign along {}: the bundle is not sign-coherent, so there\n  \
+             is no interval test for the box (on any axis); the walk sends each ray alone",
+            mixed_axes(w)
         );
+        for k in 0..3 {
+            let _ = writeln!(s, "    {}", axis_signs(rays, w, k));
+        }
         lanes(&mut s, rays, w, false);
         return s;
     };
@@ -229,6 +237,48 @@ pub fn text(rays: &[Ray], w: &BundleWorking) -> String {
     }
     lanes(&mut s, rays, w, !kept);
     s
+}
+
+const AXES: [&str; 3] = ["x", "y", "z"];
+
+/// The axes along which the directions change sign ("x", "x and z", ...); the figure says
+/// the same.
+fn mixed_axes(w: &BundleWorking) -> String {
+    let names: Vec<&str> = (0..3)
+        .filter(|&k| !w.coherent_axes[k])
+        .map(|k| AXES[k])
+        .collect();
+    match names.as_slice() {
+        [] => "no axis".into(),
+        [one] => one.to_string(),
+        [init @ .., last] => format!("{} and {last}", init.join(", ")),
+    }
+}
+
+/// One axis's signs for a bundle that is not sign-coherent: "x: d from −0.3 to 0.3, changes
+/// sign", or "z: d from 1 to 1, one sign (+)". The figure's rows say the same.
+fn axis_signs(rays: &[Ray], w: &BundleWorking, k: usize) -> String {
+    let (lo, hi) = rays
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), r| {
+            (lo.min(r.dir[k]), hi.max(r.dir[k]))
+        });
+    let name = AXES[k];
+    let range = if lo == hi {
+        format!("d{name} = {} for every ray", tiny(lo))
+    } else {
+        format!("d{name} from {} to {}", tiny(lo), tiny(hi))
+    };
+    if w.coherent_axes[k] {
+        let sign = if rays[0].dir[k].is_sign_negative() {
+            "negative"
+        } else {
+            "positive"
+        };
+        format!("{name}: {range}, one sign ({sign}); unused, as the bundle is mixed")
+    } else {
+        format!("{name}: {range}, changes sign (1/d{name} would pass through ±∞): no bound")
+    }
 }
 
 fn lanes(s: &mut String, rays: &[Ray], w: &BundleWorking, culled: bool) {

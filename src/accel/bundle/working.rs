@@ -30,6 +30,10 @@ pub struct BundleWorking {
     pub max: [f32; 3],
     /// Every direction has one sign per axis: the bundle may walk together.
     pub coherent: bool,
+    /// Per axis (x, y, z): every direction has one sign along it (the sign of d, which is
+    /// the sign of 1/d the walk compares; +0 counts as positive, −0 as negative).
+    /// `coherent` is all three.
+    pub coherent_axes: [bool; 3],
     /// Every ray starts at the same point.
     pub shared_origin: bool,
     /// Per axis, the bundle's bounds: a t no later than any ray's entry into that slab and
@@ -91,10 +95,22 @@ impl Kernel for Working<'_> {
                 }
             })
             .collect();
+        // The walk's `coherent` is the sign of each lane's 1/d agreeing on every axis; the
+        // sign of d is the same sign, so this splits the walk's verdict axis by axis.
+        let coherent_axes = std::array::from_fn(|k| {
+            let negative = |i: usize| b.dir[k].0[i].is_sign_negative();
+            (0..self.rays.len()).all(|i| negative(i) == negative(0))
+        });
+        assert_eq!(
+            b.coherent,
+            coherent_axes == [true; 3],
+            "the per-axis signs disagree with the walk's sign coherence"
+        );
         BundleWorking {
             min: std::array::from_fn(|k| node.planes[0][k][0]),
             max: std::array::from_fn(|k| node.planes[1][k][0]),
             coherent: b.coherent,
+            coherent_axes,
             shared_origin: b.shared_origin,
             axes,
             together: b.coherent.then_some(together),
