@@ -11,6 +11,7 @@
 //! nearest segment along every ray of the beam is the same one (segments do not cross), so
 //! one ray through the middle of each such sector decides it.
 
+use crate::shapes::working::tiny;
 use glam::DVec2;
 
 /// A wall (absorbs the beam) or a mirror (reflects it), from `a` to `b`.
@@ -78,7 +79,8 @@ pub fn name(segments: &[Segment], i: usize) -> String {
 pub enum Problem {
     /// The beam is empty or not less than half a turn wide.
     Width(f64),
-    /// Segment `i` has no length.
+    /// Segment `i` has no length, or is too short to tell from a point where it lies
+    /// ([`min_length`]).
     Empty(usize),
     /// The apex lies on segment `i`.
     OnSegment(usize),
@@ -93,7 +95,20 @@ impl Problem {
             Problem::Width(d) => format!(
                 "the two directions are {d:.3}° apart: a beam must be more than 0° and less than 180° wide"
             ),
-            Problem::Empty(i) => format!("{} has no length", name(segments, i)),
+            Problem::Empty(i) => {
+                let s = &segments[i];
+                let len = (s.b - s.a).length();
+                if len == 0.0 {
+                    format!("{} has no length: its two ends are the same point", name(segments, i))
+                } else {
+                    format!(
+                        "{} is {} long: a segment must be longer than {} (10⁻¹² of its far end's distance from the origin)",
+                        name(segments, i),
+                        tiny(len),
+                        tiny(min_length(s))
+                    )
+                }
+            }
             Problem::OnSegment(i) => format!("the eye lies on {}", name(segments, i)),
             Problem::Cross(i, j) => format!(
                 "{} and {} cross or overlap: a beam is clipped against segments that meet at most at their ends",
@@ -133,12 +148,18 @@ fn segment_t(p: DVec2, d: DVec2, s: &Segment, t_min: f64) -> Option<f64> {
     (t > t_min && (0.0..=1.0).contains(&u)).then_some(t)
 }
 
+/// The length a segment must exceed: relative to where it lies (10⁻¹² of its far end's
+/// distance from the origin), so a segment of 1e-13 near the origin is a segment, but one of
+/// 1e-13 at x = 2 cannot be told from a point.
+pub fn min_length(s: &Segment) -> f64 {
+    1e-12 * s.a.length().max(s.b.length())
+}
+
 /// Checks the segments and the eye before any beam is traced.
 pub fn check(eye: DVec2, segments: &[Segment]) -> Result<(), Problem> {
     for (i, s) in segments.iter().enumerate() {
         let e = s.b - s.a;
-        // Relative to where it lies: a segment of 1e-13 near the origin is a segment.
-        if e.length() <= 1e-12 * s.a.length().max(s.b.length()) {
+        if e.length() <= min_length(s) {
             return Err(Problem::Empty(i));
         }
         let u = (eye - s.a).dot(e) / e.length_squared();
@@ -437,6 +458,25 @@ mod tests {
         assert_eq!(
             check(DVec2::ZERO, &[seg((1.0, 1.0), (1.0, 1.0), false)]),
             Err(Problem::Empty(0))
+        );
+    }
+
+    #[test]
+    fn a_segment_too_short_is_told_the_length_it_needs() {
+        let short = [seg((-1e-13, 2.0), (1e-13, 2.0), true)];
+        assert_eq!(check(DVec2::ZERO, &short), Err(Problem::Empty(0)));
+        assert_eq!(
+            Problem::Empty(0).message(&short),
+            "mirror 1 is 2.0e-13 long: a segment must be longer than 2.0e-12 \
+             (10⁻¹² of its far end's distance from the origin)"
+        );
+        // Near the origin the same length is a segment.
+        let near = [seg((-1e-13, 0.0), (1e-13, 0.0), false)];
+        assert_eq!(check(DVec2::new(0.0, 1.0), &near), Ok(()));
+        let point = [seg((1.0, 1.0), (1.0, 1.0), false)];
+        assert_eq!(
+            Problem::Empty(0).message(&point),
+            "wall 1 has no length: its two ends are the same point"
         );
     }
 }

@@ -6,7 +6,7 @@ use super::intersect_args::bounded_list;
 use crate::accel::beam::{self, name, Beam, Piece, Segment};
 use crate::error::{Error, Result};
 use crate::output::check_png;
-use crate::shapes::working::{tiny, vector};
+use crate::shapes::working::tiny;
 use glam::DVec2;
 use std::path::PathBuf;
 
@@ -39,8 +39,14 @@ pub struct Args {
     /// (repeat for more).
     #[arg(long, value_name = "X1,Y1,X2,Y2", allow_hyphen_values = true)]
     pub mirror: Vec<String>,
-    /// How many reflections to follow.
-    #[arg(long, value_name = "N", default_value_t = 1)]
+    /// How many reflections to follow (0 to 3).
+    #[arg(
+        long,
+        value_name = "N",
+        default_value_t = 1,
+        allow_negative_numbers = true,
+        value_parser = clap::value_parser!(u32).range(0..=MAX_DEPTH as i64)
+    )]
     pub depth: u32,
     /// Output format: text or json (`{"eye", "from", "to", "degrees", "pieces": [{"from",
     /// "to", "degrees", "near", "seen_by": {"name", "mirror", "points"} | null,
@@ -107,32 +113,131 @@ fn xy(p: DVec2) -> [f64; 2] {
     [p.x, p.y]
 }
 
-/// The pieces as JSON (the shape `--format` documents).
-fn to_json(segments: &[Segment], pieces: &[Piece]) -> Vec<serde_json::Value> {
+/// What a coordinate must exceed, relative to the scale it is computed at, not to be
+/// rounding noise: the text prints such noise as 0, and the JSON writes it as 0 too, so the
+/// two agree ("from (2, 3) to (0, 3)", not "to (3.3e-16, 3)").
+const NOISE: f64 = 1e-12;
+
+/// How the plane's numbers are shown, text and JSON alike: noise cleared to 0. A direction's
+/// noise is relative to its own length; a point's to the larger of its own size and `scale`,
+/// the size of what the first beam reaches (the eye and where it meets segments), not of the
+/// segments' far ends: a mirror 10¹² long does not make (0.5, 2) noise.
+struct Clean {
+    scale: f64,
+}
+
+impl Clean {
+    fn new(beam: &Beam, pieces: &[Piece]) -> Clean {
+        let reach = pieces
+            .iter()
+            .filter_map(|p| p.hit)
+            .flat_map(|(_, h)| h)
+            .chain([beam.apex]);
+        Clean {
+            scale: reach.map(|p| p.abs().max_element()).fold(0.0, f64::max),
+        }
+    }
+
+    fn point(&self, p: DVec2) -> DVec2 {
+        zero_below(p, NOISE * p.abs().max_element().max(self.scale))
+    }
+
+    fn dir(&self, d: DVec2) -> DVec2 {
+        zero_below(d, NOISE * d.abs().max_element())
+    }
+}
+
+/// `p` with each coordinate no larger than `t` (and -0) written as 0.
+fn zero_below(p: DVec2, t: f64) -> DVec2 {
+    let z = |x: f64| if x.abs() <= t { 0.0 } else { x };
+    DVec2::new(z(p.x), z(p.y))
+}
+
+/// The pieces as JSON (the shape `--format` documents): full precision, rounding noise 0.
+fn to_json(segments: &[Segment], pieces: &[Piece], clean: &Clean) -> Vec<serde_json::Value> {
+    let pt = |p: DVec2| xy(clean.point(p));
+    let dir = |d: DVec2| xy(clean.dir(d));
     pieces
         .iter()
         .map(|p| {
             serde_json::json!({
-                "from": xy(p.from),
-                "to": xy(p.to),
+                "from": dir(p.from),
+                "to": dir(p.to),
                 "degrees": p.degrees,
-                "near": [xy(p.near[0]), xy(p.near[1])],
+                "near": [pt(p.near[0]), pt(p.near[1])],
                 "seen_by": p.hit.map(|(i, [a, b])| serde_json::json!({
                     "name": name(segments, i),
                     "mirror": segments[i].mirror,
-                    "points": [xy(a), xy(b)],
+                    "points": [pt(a), pt(b)],
                 })),
                 "reflected": p.reflected.as_ref().map(|(r, sub)| serde_json::json!({
-                    "apex": xy(r.apex),
-                    "pieces": to_json(segments, sub),
+                    "apex": pt(r.apex),
+                    "pieces": to_json(segments, sub, clean),
                 })),
             })
         })
         .collect()
 }
 
-fn v2(p: DVec2) -> String {
-    vector(&[p.x, p.y], tiny)
+/// `x` with `decimals` decimals (four: [`tiny`]), trailing zeros dropped; below 1e-4, in
+/// scientific form with as many significant digits.
+fn number(x: f64, decimals: usize) -> String {
+    if decimals <= 4 {
+        return tiny(x);
+    }
+    if x != 0.0 && x.abs() < 1e-4 {
+        let s = format!("{x:.*e}", decimals - 3);
+        let (mantissa, exp) = s.split_once('e').expect("scientific form");
+        let mantissa = mantissa.trim_end_matches('0');
+        let mantissa = match mantissa.strip_suffix('.') {
+            Some(m) => format!("{m}.0"),
+            None => mantissa.to_string(),
+        };
+        return format!("{mantissa}e{exp}");
+    }
+    let s = format!("{x:.decimals$}");
+    match s.trim_end_matches('0').trim_end_matches('.') {
+        "-0" => "0".to_string(),
+        t => t.to_string(),
+    }
+}
+
+fn v2(p: DVec2, decimals: usize) -> String {
+    format!("({}, {})", number(p.x, decimals), number(p.y, decimals))
+}
+
+/// The value `v2` shows, read back.
+fn shown(p: DVec2, decimals: usize) -> DVec2 {
+    let back = |x: f64| number(x, decimals).parse::<f64>().unwrap_or(x);
+    DVec2::new(back(p.x), back(p.y))
+}
+
+/// `a` and `b` with four decimals, or as many more as it takes for the printed values to
+/// `differ` (two directions a millionth of a degree apart do not both read "(1, 1)").
+fn apart(a: DVec2, b: DVec2, differ: impl Fn(DVec2, DVec2) -> bool) -> (String, String) {
+    let decimals = (4..=17)
+        .find(|&d| differ(shown(a, d), shown(b, d)))
+        .unwrap_or(17);
+    (v2(a, decimals), v2(b, decimals))
+}
+
+/// Two different directions, not parallel as printed.
+fn directions(a: DVec2, b: DVec2) -> (String, String) {
+    apart(a, b, |a, b| a.perp_dot(b) != 0.0 || a.dot(b) < 0.0)
+}
+
+/// Two different points, not equal as printed.
+fn points(a: DVec2, b: DVec2) -> (String, String) {
+    apart(a, b, |a, b| a != b)
+}
+
+/// A width in degrees: four decimals, or as many more as it takes for a width under 180° to
+/// read under 180° (a beam must be less than half a turn wide).
+fn degrees(d: f64) -> String {
+    let decimals = (4..=15)
+        .find(|&k| d >= 180.0 || number(d, k).parse::<f64>().is_ok_and(|v| v < 180.0))
+        .unwrap_or(15);
+    number(d, decimals)
 }
 
 pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
@@ -148,37 +253,41 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
     let (beam, segments) = parse(&args)?;
     let pieces = beam::trace(&beam, &segments, args.depth);
     let wide = beam::width(&beam).unwrap_or(0.0);
+    let clean = Clean::new(&beam, &pieces);
     if args.format == "json" {
         if let Some(o) = &args.output {
             crate::viz::beam::figure(&beam, &segments, &pieces).write_png(o)?;
         }
         let doc = serde_json::json!({
-            "eye": xy(beam.apex),
-            "from": xy(beam.from),
-            "to": xy(beam.to),
+            "eye": xy(clean.point(beam.apex)),
+            "from": xy(clean.dir(beam.from)),
+            "to": xy(clean.dir(beam.to)),
             "degrees": wide,
-            "pieces": to_json(&segments, &pieces),
+            "pieces": to_json(&segments, &pieces, &clean),
         });
         return super::emit(
             out,
             &(serde_json::to_string_pretty(&doc).expect("plain JSON") + "\n"),
         );
     }
+    let (from, to) = directions(clean.dir(beam.from), clean.dir(beam.to));
     let mut text = format!(
-        "A beam from the eye at {}, counterclockwise from direction {} to {} ({}° wide), clipped \
-         against {} segment(s) nearest first (Heckbert and Hanrahan 1984).\n\
+        "A beam from the eye at {}, counterclockwise from direction {from} to {to} ({}° wide), \
+         clipped against {} segment(s) nearest first (Heckbert and Hanrahan 1984).\n\
          Its pieces, counterclockwise; each is the part of the beam one segment sees:\n",
-        v2(beam.apex),
-        v2(beam.from),
-        v2(beam.to),
-        tiny(wide),
+        v2(clean.point(beam.apex), 4),
+        degrees(wide),
         segments.len()
     );
-    describe(&mut text, &segments, &pieces, "", 1, "");
+    let list = List {
+        segments: &segments,
+        clean: &clean,
+    };
+    list.describe(&mut text, &pieces, "", 1, "");
     let total: f64 = pieces.iter().map(|p| p.degrees).sum();
     text += &format!(
         "Every ray of the beam lies in exactly one piece: their widths add up to {}°.\n",
-        tiny(total)
+        degrees(total)
     );
     if let Some(o) = &args.output {
         crate::viz::beam::figure(&beam, &segments, &pieces).write_png(o)?;
@@ -187,39 +296,96 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
     super::emit(out, &text)
 }
 
-/// The pieces as indented lines, numbered `prefix` 1, 2, …; a reflected beam's pieces under
-/// the piece of the mirror that made it.
-fn describe(
-    text: &mut String,
-    segments: &[Segment],
-    pieces: &[Piece],
-    prefix: &str,
-    level: usize,
-    mirrored: &str,
-) {
-    let pad = "  ".repeat(level);
-    for (k, p) in pieces.iter().enumerate() {
-        let label = format!("{prefix}{}", k + 1);
-        let what = match p.hit {
-            Some((i, [a, b])) => {
-                format!("{} sees it, from {} to {}", name(segments, i), v2(a), v2(b))
-            }
-            None => "passes every segment".to_string(),
-        };
-        *text += &format!("{pad}piece {label}: {}° wide, {what}\n", tiny(p.degrees));
-        if let Some((r, sub)) = &p.reflected {
-            let m = name(segments, p.hit.map_or(0, |h| h.0));
-            let chain = match mirrored {
-                "" => format!("the eye mirrored in {m}"),
-                before => format!("{before}, then in {m}"),
+/// What the printed list of pieces needs besides the pieces.
+struct List<'a> {
+    segments: &'a [Segment],
+    clean: &'a Clean,
+}
+
+impl List<'_> {
+    /// The pieces as indented lines, numbered `prefix` 1, 2, …; a reflected beam's pieces
+    /// under the piece of the mirror that made it.
+    fn describe(
+        &self,
+        text: &mut String,
+        pieces: &[Piece],
+        prefix: &str,
+        level: usize,
+        mirrored: &str,
+    ) {
+        let (segments, clean) = (self.segments, self.clean);
+        let pad = "  ".repeat(level);
+        for (k, p) in pieces.iter().enumerate() {
+            let label = format!("{prefix}{}", k + 1);
+            let what = match p.hit {
+                Some((i, [a, b])) => {
+                    let (a, b) = points(clean.point(a), clean.point(b));
+                    format!("{} sees it, from {a} to {b}", name(segments, i))
+                }
+                None => "meets no segment".to_string(),
             };
-            *text += &format!(
-                "{pad}  reflected: a beam from {} ({chain}), leaving from the mirror:\n",
-                v2(r.apex)
-            );
-            describe(text, segments, sub, &format!("{label}."), level + 2, &chain);
-        } else if p.hit.is_some_and(|(i, _)| segments[i].mirror) {
-            *text += &format!("{pad}  (not reflected further: --depth)\n");
+            *text += &format!("{pad}piece {label}: {}° wide, {what}\n", degrees(p.degrees));
+            if let Some((r, sub)) = &p.reflected {
+                let m = name(segments, p.hit.map_or(0, |h| h.0));
+                let chain = match mirrored {
+                    "" => format!("the eye mirrored in {m}"),
+                    before => format!("{before}, then in {m}"),
+                };
+                *text += &format!(
+                    "{pad}  reflected: a beam from {} ({chain}), leaving from the mirror:\n",
+                    v2(clean.point(r.apex), 4)
+                );
+                self.describe(text, sub, &format!("{label}."), level + 2, &chain);
+            } else if p.hit.is_some_and(|(i, _)| segments[i].mirror) {
+                *text += &format!("{pad}  (not reflected further: --depth)\n");
+            }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_width_under_half_a_turn_reads_under_180() {
+        assert_eq!(degrees(83.39524), "83.3952");
+        assert_eq!(degrees(179.99999994), "179.9999999");
+        assert_eq!(degrees(179.99), "179.99");
+        assert_eq!(degrees(2.9e-5), "2.9e-5");
+    }
+
+    #[test]
+    fn two_directions_are_printed_apart() {
+        let (a, b) = directions(DVec2::new(1.0, 1.0), DVec2::new(1.0, 1.000001));
+        assert_eq!((a.as_str(), b.as_str()), ("(1, 1)", "(1, 1.000001)"));
+        // Parallel as printed is not apart either.
+        let (a, b) = directions(DVec2::new(1.0, 1.0), DVec2::new(2.0, 2.0000001));
+        assert_eq!((a.as_str(), b.as_str()), ("(1, 1)", "(2, 2.0000001)"));
+        let (a, b) = points(DVec2::new(1.5, 1.5), DVec2::new(1.4999994, 1.5000006));
+        assert_ne!(a, b);
+        assert_eq!(directions(DVec2::X, DVec2::Y).0, "(1, 0)");
+    }
+
+    #[test]
+    fn rounding_noise_is_zero_relative_to_what_the_beam_reaches() {
+        let beam = Beam::between(DVec2::ZERO, DVec2::new(-1.0, 1.0), DVec2::new(1.0, 1.0));
+        let far = Segment {
+            a: DVec2::new(-1e12, 2.0),
+            b: DVec2::new(1e12, 2.0),
+            mirror: true,
+        };
+        let pieces = beam::trace(&beam, &[far], 0);
+        let clean = Clean::new(&beam, &pieces);
+        assert_eq!(clean.point(DVec2::new(2.2e-16, 3.0)), DVec2::new(0.0, 3.0));
+        // A mirror 10¹² long does not make small coordinates noise.
+        assert_eq!(clean.point(DVec2::new(1e-3, 2.0)), DVec2::new(1e-3, 2.0));
+        assert_eq!(clean.dir(DVec2::new(1.1e-16, 1.0)), DVec2::new(0.0, 1.0));
+        assert_eq!(
+            clean.dir(DVec2::new(-0.0, 1.0)).x.to_bits(),
+            0.0f64.to_bits()
+        );
+        assert_eq!(number(1.0e-7, 8), "1.0e-7");
+        assert_eq!(number(1.25e-7, 8), "1.25e-7");
     }
 }

@@ -1,10 +1,12 @@
 //! The figure of `rtlab beam`: one beam from the eye, in the plane, cut into the pieces that
-//! each wall or mirror sees (blue), the pieces that pass everything (grey), and each mirror's
-//! reflected beam (green) from the eye mirrored in it (dashed: where its rays seem to come
-//! from).
+//! each wall or mirror sees (blue), the pieces that meet no segment (grey), and each mirror's
+//! reflected beam (green, paler at each further reflection) from the eye mirrored in it
+//! (dashed: where the first reflections' rays seem to come from). The frame is what the beam
+//! reaches ([`frame`]), and a piece is numbered only where its number fits inside it, clear
+//! of every other mark, except the first beam's, which are always numbered.
 
 use super::canvas::{Anchor, Canvas};
-use super::labels::{text_box, Labels};
+use super::labels::{around, around_rings, text_box, Box2, Labels};
 use super::style;
 use crate::accel::beam::{name, Beam, Piece, Segment};
 use crate::trace::RayKind;
@@ -25,16 +27,8 @@ struct View {
 }
 
 impl View {
-    fn new(points: &[DVec2]) -> View {
-        let (mut min, mut max) = (points[0], points[0]);
-        for &p in points {
-            min = min.min(p);
-            max = max.max(p);
-        }
-        // Relative: a room of any size fills the figure (segments have a length, so the
-        // extent is never zero).
-        let pad = (max - min).max_element() * 0.08;
-        let (min, max) = (min - DVec2::splat(pad), max + DVec2::splat(pad));
+    /// The view of `frame` ([`frame`]'s corners), as large as the figure allows.
+    fn new([min, max]: [DVec2; 2]) -> View {
         let (aw, ah) = ((W - 2.0 * MARGIN) as f64, (H - TOP - BOTTOM) as f64);
         let scale = (aw / (max.x - min.x)).min(ah / (max.y - min.y));
         // Centred in the area.
@@ -119,9 +113,186 @@ impl View {
     }
 }
 
+/// How far past what the beam reaches the frame may grow to take in whole segments and the
+/// reflected beams, in multiples of the size of what it reaches.
+const REACH: f64 = 3.0;
+
+/// The part of the plane the figure shows, as its lower-left and upper-right corners: what
+/// the beam reaches (the eye and where its pieces meet segments), with a margin, grown to
+/// take in whatever lies within [`REACH`] times that size of it: whole segments, the
+/// reflected beams' pieces, and always the first reflections' mirrored eyes, the apexes the
+/// figure draws. A segment that reaches further is cut at the frame, so a mirror 10¹² long
+/// does not shrink the beam to a point.
+///
+/// The mirrored eyes always fit: a first reflection's apex lies twice the eye's distance
+/// from the mirror's line away from the eye, and that distance is at most the distance to
+/// where the beam meets the mirror, inside what the beam reaches.
+pub fn frame(beam: &Beam, segments: &[Segment], pieces: &[Piece]) -> [DVec2; 2] {
+    let mut points = vec![beam.apex];
+    points.extend(pieces.iter().filter_map(|p| p.hit).flat_map(|(_, h)| h));
+    let [lo, hi] = bounds(&points);
+    // A beam that meets nothing reaches no point but the eye: then the nearest segment sets
+    // the size, and the beam is drawn that far.
+    let nearest = segments
+        .iter()
+        .map(|s| distance(beam.apex, s))
+        .fold(f64::INFINITY, f64::min);
+    let mut size = (hi - lo).max_element();
+    if size == 0.0 {
+        size = if nearest.is_finite() && nearest > 0.0 {
+            nearest
+        } else {
+            1.0
+        };
+        points.extend([beam.from, beam.to].map(|d| beam.apex + size * d.normalize()));
+    }
+    let (near_lo, near_hi) = (lo - REACH * size, hi + REACH * size);
+    let within = |p: DVec2| p.cmpge(near_lo).all() && p.cmple(near_hi).all();
+    let mut further = Vec::new();
+    for p in pieces {
+        if let Some((r, sub)) = &p.reflected {
+            points.push(r.apex);
+            reached(sub, &mut further);
+        }
+    }
+    for s in segments {
+        further.extend([s.a, s.b]);
+    }
+    // A segment whole or not at all: half of one would look like all of it.
+    for pair in further.chunks(2) {
+        if pair.iter().all(|&p| within(p)) {
+            points.extend(pair);
+        }
+    }
+    let [mut lo, mut hi] = bounds(&points);
+    let short = size - (hi - lo).max_element();
+    if short > 0.0 {
+        lo -= DVec2::splat(short / 2.0);
+        hi += DVec2::splat(short / 2.0);
+    }
+    let pad = DVec2::splat((hi - lo).max_element() * 0.08);
+    [lo - pad, hi + pad]
+}
+
+/// The points where the pieces of reflected beams start and end, in pairs, deeper beams too.
+fn reached(pieces: &[Piece], out: &mut Vec<DVec2>) {
+    for p in pieces {
+        out.extend(p.near);
+        if let Some((_, h)) = p.hit {
+            out.extend(h);
+        }
+        if let Some((_, sub)) = &p.reflected {
+            reached(sub, out);
+        }
+    }
+}
+
+fn bounds(points: &[DVec2]) -> [DVec2; 2] {
+    points.iter().fold([points[0], points[0]], |[lo, hi], &p| {
+        [lo.min(p), hi.max(p)]
+    })
+}
+
+/// The distance from `p` to segment `s`.
+fn distance(p: DVec2, s: &Segment) -> f64 {
+    let e = s.b - s.a;
+    let u = ((p - s.a).dot(e) / e.length_squared()).clamp(0.0, 1.0);
+    (s.a + u * e - p).length()
+}
+
+/// How each depth of reflection is drawn: fills for pieces a segment sees and pieces that
+/// meet none, the edges' colour and width. Deeper is paler and thinner, so that the first
+/// beam, drawn last, stays on top and readable.
+struct Look {
+    seen: tiny_skia::Color,
+    passing: tiny_skia::Color,
+    edge: tiny_skia::Color,
+    width: f32,
+}
+
+fn look(level: u32) -> Look {
+    let g = |a: u8| style::rgba(44, 160, 44, a);
+    match level {
+        0 => Look {
+            seen: style::rgba(31, 119, 180, 70),
+            passing: style::rgba(150, 150, 158, 40),
+            edge: style::ray(RayKind::Camera),
+            width: 1.2,
+        },
+        1 => Look {
+            seen: g(56),
+            passing: g(24),
+            edge: style::ray(RayKind::Reflection),
+            width: 1.0,
+        },
+        2 => Look {
+            seen: g(28),
+            passing: g(12),
+            edge: g(150),
+            width: 0.7,
+        },
+        _ => Look {
+            seen: g(16),
+            passing: g(8),
+            edge: g(100),
+            width: 0.5,
+        },
+    }
+}
+
+/// One beam of the figure: the first (level 0) or one a mirror reflected (`mirror`), with
+/// its pieces numbered `prefix` 1, 2, ….
+struct Drawn<'a> {
+    level: u32,
+    prefix: String,
+    beam: &'a Beam,
+    pieces: &'a [Piece],
+    mirror: Option<usize>,
+}
+
+/// The beam and every beam reflected from it, in the order the text lists them.
+fn collect<'a>(drawn: Drawn<'a>, out: &mut Vec<Drawn<'a>>) {
+    let (level, prefix, pieces) = (drawn.level, drawn.prefix.clone(), drawn.pieces);
+    out.push(drawn);
+    for (k, p) in pieces.iter().enumerate() {
+        if let (Some((r, sub)), Some((m, _))) = (&p.reflected, p.hit) {
+            let next = Drawn {
+                level: level + 1,
+                prefix: format!("{prefix}{}.", k + 1),
+                beam: r,
+                pieces: sub,
+                mirror: Some(m),
+            };
+            collect(next, out);
+        }
+    }
+}
+
+/// A label to place once everything is drawn: the first free candidate, or (if `needed`)
+/// the first one even if it overlaps.
+struct Job {
+    candidates: Vec<((f32, f32), Anchor)>,
+    text: String,
+    color: tiny_skia::Color,
+    needed: bool,
+}
+
 /// The figure of `beam`'s `pieces` against `segments`.
 pub fn figure(beam: &Beam, segments: &[Segment], pieces: &[Piece]) -> Canvas {
     let mut c = Canvas::new(W as u32, H as u32, style::background());
+    let mut beams = Vec::new();
+    let first = Drawn {
+        level: 0,
+        prefix: String::new(),
+        beam,
+        pieces,
+        mirror: None,
+    };
+    collect(first, &mut beams);
+    let deepest = beams.iter().map(|d| d.level).max().unwrap_or(0);
+    let mirror_seen = pieces
+        .iter()
+        .any(|p| p.hit.is_some_and(|(i, _)| segments[i].mirror));
     c.text(
         (MARGIN, 22.0),
         "Beam tracing (Heckbert and Hanrahan, 1984): one beam, clipped against the walls and mirrors nearest first",
@@ -136,20 +307,25 @@ pub fn figure(beam: &Beam, segments: &[Segment], pieces: &[Piece]) -> Canvas {
         style::ink(),
         Anchor::Left,
     );
+    // Only what the figure shows: the mirrored eye is drawn for every first reflection.
+    let reflection = if deepest > 0 {
+        "A mirror's piece is reflected: a new beam whose rays seem to come from the eye mirrored in the mirror (where the dashed lines meet)."
+    } else if mirror_seen {
+        "A mirror's piece would be reflected as a new beam; --depth 0 follows no reflection."
+    } else if segments.iter().any(|s| s.mirror) {
+        "A mirror's piece would be reflected as a new beam; no mirror sees this beam."
+    } else {
+        "There is no mirror here: every piece stops at a wall or goes on."
+    };
     c.text(
         (MARGIN, 62.0),
-        "A mirror's piece is reflected: a new beam whose rays seem to come from the eye mirrored in the mirror (dashed).",
+        reflection,
         12.0,
         style::muted(),
         Anchor::Left,
     );
-    // The room: the eye and the segments. A mirrored eye may lie far outside it (two facing
-    // mirrors put them ever further away); its dashed lines are drawn up to the frame.
-    let mut room = vec![beam.apex];
-    for s in segments {
-        room.extend([s.a, s.b]);
-    }
-    let view = View::new(&room);
+
+    let view = View::new(frame(beam, segments, pieces));
     let (x0, y1) = view.at(view.min);
     let (x1, y0) = view.at(view.max);
     c.rect(
@@ -158,99 +334,279 @@ pub fn figure(beam: &Beam, segments: &[Segment], pieces: &[Piece]) -> Canvas {
         Some((style::grid(), 1.0)),
         None,
     );
-    let eye = Lineage {
-        prefix: String::new(),
-        level: 0,
-        mirrored: String::new(),
-        eye: beam.apex,
-    };
-    // Where each segment's name goes, and the eye's: kept clear of the pieces' numbers.
-    let names: Vec<((f32, f32), Anchor)> = segments
-        .iter()
-        .map(|s| {
-            // Beside the segment's middle, on the side away from the eye.
-            let mid = (s.a + s.b) / 2.0;
-            let mut n = (s.b - s.a).perp().normalize();
-            if n.dot(mid - beam.apex) < 0.0 {
-                n = -n;
-            }
-            let (mx, my) = view.at(mid);
-            let at = (mx + 16.0 * n.x as f32, my - 16.0 * n.y as f32);
-            let anchor = match n.x {
-                x if x > 0.4 => Anchor::Left,
-                x if x < -0.4 => Anchor::Right,
-                _ => Anchor::Center,
-            };
-            (at, anchor)
-        })
-        .collect();
-    let eye_at = view.at(beam.apex);
-    let mut labels = Labels::new([0.0, 0.0, W, H]);
-    for (i, &(at, anchor)) in names.iter().enumerate() {
-        labels.block(text_box(at, &name(segments, i), 12.0, anchor));
+    let inside_frame =
+        |b: &Box2| b[0] >= x0 + 1.0 && b[1] >= y0 + 1.0 && b[2] <= x1 - 1.0 && b[3] <= y1 - 1.0;
+    // Labels may go anywhere between the title and the legend; piece numbers only inside
+    // the frame (checked per candidate).
+    let mut labels = Labels::new([4.0, TOP - 6.0, W - 4.0, H - BOTTOM + 8.0]);
+
+    // The pieces, deepest reflections first so that the first beam is drawn on top.
+    let mut polygons: Vec<Vec<Vec<(f32, f32)>>> = Vec::new();
+    for d in &beams {
+        polygons.push(d.pieces.iter().map(|p| outline(&view, p)).collect());
     }
-    labels.block(text_box(
-        (eye_at.0, eye_at.1 + 16.0),
-        "eye",
-        12.0,
-        Anchor::Center,
-    ));
-    let mut jobs = Vec::new();
-    draw_pieces(&mut c, &view, (beam, pieces), segments, &eye, &mut jobs);
-    place(&mut c, &jobs, &mut labels);
+    for level in (0..=deepest).rev() {
+        let look = look(level);
+        for (d, polys) in beams.iter().zip(&polygons) {
+            if d.level != level {
+                continue;
+            }
+            for (p, poly) in d.pieces.iter().zip(polys) {
+                if poly.len() < 3 {
+                    continue;
+                }
+                let fill = if p.hit.is_some() {
+                    look.seen
+                } else {
+                    look.passing
+                };
+                c.polygon(poly, None, Some(fill));
+                let [e0, e1] = ends(&view, p);
+                for (a, b) in [(p.near[0], e0), (p.near[1], e1)] {
+                    if let Some((a, b)) = view.clip_line(a, b) {
+                        c.line(view.at(a), view.at(b), look.edge, look.width, false);
+                    }
+                }
+            }
+        }
+    }
+
+    // The first reflections' apexes, the mirrored eyes, each with the dashed lines from it
+    // to the part of the mirror its beam leaves (deeper apexes are in the printed list).
+    let mut apexes: Vec<(usize, (f32, f32))> = Vec::new();
+    for d in beams.iter().filter(|d| d.level == 1) {
+        let (Some(first), Some(last)) = (d.pieces.first(), d.pieces.last()) else {
+            continue;
+        };
+        for q in [first.near[0], last.near[1]] {
+            if let Some((a, b)) = view.clip_line(d.beam.apex, q) {
+                let (a, b) = (view.at(a), view.at(b));
+                c.line(a, b, style::muted(), 1.0, true);
+                labels.block_segment(a, b, 1.5);
+            }
+        }
+        let m = d.mirror.expect("a reflected beam has its mirror");
+        if !apexes.iter().any(|&(n, _)| n == m) {
+            apexes.push((m, view.at(d.beam.apex)));
+        }
+    }
+
+    // The segments, cut at the frame, and the eye: obstacles for every label.
+    let mut names = Vec::new();
     for (i, s) in segments.iter().enumerate() {
+        let Some((a, b)) = view.clip_line(s.a, s.b) else {
+            continue; // wholly outside what the beam reaches
+        };
         let color = if s.mirror {
             style::ray(RayKind::Reflection)
         } else {
             style::ink()
         };
-        c.line(view.at(s.a), view.at(s.b), color, 3.5, false);
-        let (at, anchor) = names[i];
-        label(&mut c, at, &name(segments, i), color, anchor);
+        let (a, b) = (view.at(a), view.at(b));
+        c.line(a, b, color, 3.5, false);
+        labels.block_segment(a, b, 3.5);
+        names.push((i, a, b, color));
     }
     let eye = view.at(beam.apex);
+    labels.block_point(eye, 7.0);
+    for &(_, at) in &apexes {
+        c.circle(
+            at,
+            4.5,
+            Some((style::ink(), 1.2)),
+            Some(style::background()),
+        );
+        labels.block_point(at, 7.0);
+    }
     c.circle(eye, 4.5, None, Some(style::ink()));
-    c.text(
-        (eye.0, eye.1 + 16.0),
-        "eye",
-        12.0,
-        style::ink(),
-        Anchor::Center,
-    );
+
+    // The labels, most needed first: names, the eye, the mirrored eyes, then the pieces'
+    // numbers from the first beam down.
+    let mut jobs = Vec::new();
+    for &(i, a, b, color) in &names {
+        jobs.push(Job {
+            candidates: beside(a, b, eye),
+            text: name(segments, i),
+            color,
+            needed: true,
+        });
+    }
+    jobs.push(Job {
+        candidates: around(eye, 10.0),
+        text: "eye".to_string(),
+        color: style::ink(),
+        needed: true,
+    });
+    for &(m, at) in &apexes {
+        jobs.push(Job {
+            candidates: around_rings(at, 10.0),
+            text: format!("eye mirrored in {}", name(segments, m)),
+            color: style::muted(),
+            needed: true,
+        });
+    }
+    // Numbers down to the second reflection; the third's pieces are in the printed list.
+    for level in 0..=deepest.min(2) {
+        for (n, (d, polys)) in beams.iter().zip(&polygons).enumerate() {
+            if d.level != level {
+                continue;
+            }
+            // How many other beams' pieces cover a place: the fewer, the less a number there
+            // could be taken for theirs.
+            let covered = |b: &Box2| {
+                let corners = [[b[0], b[1]], [b[2], b[1]], [b[2], b[3]], [b[0], b[3]]];
+                polygons
+                    .iter()
+                    .enumerate()
+                    .filter(|&(m, _)| m != n)
+                    .flat_map(|(_, polys)| polys)
+                    .filter(|poly| corners.iter().any(|&[x, y]| box_in(&[x, y, x, y], poly)))
+                    .count()
+            };
+            for (k, (p, poly)) in d.pieces.iter().zip(polys).enumerate() {
+                let text = format!("{}{}", d.prefix, k + 1);
+                let spots = spots(&view, p);
+                // Wholly inside its own piece, so that it cannot be read as a neighbour's.
+                let mut candidates: Vec<_> = spots
+                    .iter()
+                    .filter(|&&(at, anchor)| {
+                        let b = text_box(at, &text, 12.0, anchor);
+                        inside_frame(&b) && box_in(&b, poly)
+                    })
+                    .copied()
+                    .collect();
+                candidates.sort_by_key(|&(at, anchor)| covered(&text_box(at, &text, 12.0, anchor)));
+                // The first beam's numbers always (the nearest free place on the piece's
+                // middle ray if none fits inside); a reflection's only where one fits.
+                let needed = level == 0 && p.degrees >= 0.5;
+                if needed {
+                    candidates.extend(
+                        spots.iter().filter(|&&(at, anchor)| {
+                            inside_frame(&text_box(at, &text, 12.0, anchor))
+                        }),
+                    );
+                }
+                jobs.push(Job {
+                    candidates,
+                    text,
+                    color: style::ink(),
+                    needed,
+                });
+            }
+        }
+    }
+    let total =
+        beams.iter().map(|d| d.pieces.len()).sum::<usize>() + names.len() + 1 + apexes.len();
+    let mut placed = 0;
+    for job in &jobs {
+        if let Some((at, anchor)) = labels.reserve(&job.candidates, &job.text, 12.0, job.needed) {
+            label(&mut c, at, &job.text, job.color, anchor);
+            placed += 1;
+        }
+    }
+
     c.text(
         (MARGIN, H - 36.0),
-        "Blue: a piece some segment sees (the number is the piece's in the printed list). Grey: a piece that passes everything.",
+        "Blue: a piece a segment sees (numbered as in the printed list). Grey: a piece that meets no segment.",
         12.0,
         style::ink(),
         Anchor::Left,
     );
-    c.text(
-        (MARGIN, H - 16.0),
-        "Green: the beams the mirrors reflect, clipped the same way. Every ray of the beam lies in exactly one piece.",
-        12.0,
-        style::ink(),
-        Anchor::Left,
-    );
+    let mut last = String::new();
+    if deepest > 0 {
+        last += "Green: the beams the mirrors reflect, clipped the same way";
+        last += if deepest > 1 {
+            ", paler at each further reflection. "
+        } else {
+            ". "
+        };
+    }
+    last += if placed < total {
+        "Pieces without a number are in the printed list."
+    } else {
+        "Every ray of the beam lies in exactly one piece."
+    };
+    c.text((MARGIN, H - 16.0), &last, 12.0, style::ink(), Anchor::Left);
     c
 }
 
-/// A label to place once every beam is drawn: the first free candidate, or (if `needed`)
-/// the first one even if it overlaps.
-struct Job {
-    candidates: Vec<((f32, f32), Anchor)>,
-    text: String,
-    color: tiny_skia::Color,
-    needed: bool,
+/// Where a piece's edge rays end: on the segment that sees it, or past the frame.
+fn ends(view: &View, p: &Piece) -> [DVec2; 2] {
+    match p.hit {
+        Some((_, ends)) => ends,
+        None => [
+            p.near[0] + view.far() * p.from,
+            p.near[1] + view.far() * p.to,
+        ],
+    }
 }
 
-/// Places `jobs` in order, each clear of the boxes `labels` holds and of the ones placed
-/// before it.
-fn place(c: &mut Canvas, jobs: &[Job], labels: &mut Labels) {
-    for job in jobs {
-        if let Some((at, anchor)) = labels.reserve(&job.candidates, &job.text, 12.0, job.needed) {
-            label(c, at, &job.text, job.color, anchor);
+/// The piece as the figure draws it, in pixels: cut at the frame (empty if outside it).
+fn outline(view: &View, p: &Piece) -> Vec<(f32, f32)> {
+    let [e0, e1] = ends(view, p);
+    let poly = view.clip(vec![p.near[0], e0, e1, p.near[1]]);
+    poly.iter().map(|&q| view.at(q)).collect()
+}
+
+/// Candidate places for a piece's number, in pixels: along its middle ray, then rays nearer
+/// its edges, each first towards the far end of its part in the frame, where a piece that
+/// widens away from its apex has most room.
+fn spots(view: &View, p: &Piece) -> Vec<((f32, f32), Anchor)> {
+    let [e0, e1] = ends(view, p);
+    let mut out = Vec::new();
+    for u in [0.5, 0.3, 0.7, 0.15, 0.85] {
+        let (n, e) = (p.near[0].lerp(p.near[1], u), e0.lerp(e1, u));
+        if let Some((a, b)) = view.clip_line(n, e) {
+            for v in [0.7, 0.55, 0.82, 0.4, 0.9, 0.25, 0.12] {
+                out.push((view.at(a.lerp(b, v)), Anchor::Center));
+            }
         }
     }
+    out
+}
+
+/// Whether box `b` lies inside the convex polygon `poly` (pixels).
+fn box_in(b: &Box2, poly: &[(f32, f32)]) -> bool {
+    if poly.len() < 3 {
+        return false;
+    }
+    let corners = [(b[0], b[1]), (b[2], b[1]), (b[2], b[3]), (b[0], b[3])];
+    let side = |p: (f32, f32), q: (f32, f32), x: (f32, f32)| {
+        (q.0 - p.0) * (x.1 - p.1) - (q.1 - p.1) * (x.0 - p.0)
+    };
+    let n = poly.len();
+    let edges = || (0..n).map(|i| (poly[i], poly[(i + 1) % n]));
+    // Either winding: every corner on the same side of every edge as the polygon's inside.
+    [1.0f32, -1.0]
+        .iter()
+        .any(|&s| edges().all(|(p, q)| corners.iter().all(|&x| s * side(p, q, x) >= 0.0)))
+}
+
+/// Candidate places for a segment's name beside it (pixels `a` to `b`): at its middle, then
+/// further along, on the side away from the eye first.
+fn beside(a: (f32, f32), b: (f32, f32), eye: (f32, f32)) -> Vec<((f32, f32), Anchor)> {
+    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+    let len = dx.hypot(dy).max(1e-3);
+    let (mut nx, mut ny) = (-dy / len, dx / len);
+    let mid = (a.0 + dx / 2.0, a.1 + dy / 2.0);
+    if nx * (mid.0 - eye.0) + ny * (mid.1 - eye.1) < 0.0 {
+        (nx, ny) = (-nx, -ny);
+    }
+    let mut out = Vec::new();
+    for side in [1.0f32, -1.0] {
+        for f in [0.5f32, 0.35, 0.65, 0.2, 0.8, 0.08, 0.92] {
+            let m = (a.0 + dx * f, a.1 + dy * f);
+            let (ox, oy) = (nx * side, ny * side);
+            let anchor = match ox {
+                x if x > 0.35 => Anchor::Left,
+                x if x < -0.35 => Anchor::Right,
+                _ => Anchor::Center,
+            };
+            let gap = if anchor == Anchor::Center { 14.0 } else { 9.0 };
+            out.push(((m.0 + ox * gap, m.1 + oy * gap), anchor));
+        }
+    }
+    out
 }
 
 /// A label on a pale backing, so that the thin lines it falls on do not cross its letters.
@@ -265,143 +621,85 @@ fn label(c: &mut Canvas, at: (f32, f32), text: &str, color: tiny_skia::Color, an
     c.text(at, text, 12.0, color, anchor);
 }
 
-/// Where a beam stands among the reflections: its pieces' numbers begin with `prefix`,
-/// `level` reflections made it, and `mirrored` says from which mirrored eye ("" for the eye).
-struct Lineage {
-    prefix: String,
-    level: u32,
-    mirrored: String,
-    /// The real eye, where every lineage starts.
-    eye: DVec2,
-}
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::accel::beam::trace;
 
-/// Draws `pieces` of `beam` (numbered `prefix` 1, 2, …), then each reflected beam's.
-fn draw_pieces(
-    c: &mut Canvas,
-    view: &View,
-    (beam, pieces): (&Beam, &[Piece]),
-    segments: &[Segment],
-    lineage: &Lineage,
-    jobs: &mut Vec<Job>,
-) {
-    let Lineage {
-        prefix,
-        level,
-        mirrored,
-        ..
-    } = lineage;
-    let level = *level;
-    let (seen, passing, edge) = match level {
-        0 => (
-            style::rgba(31, 119, 180, 60),
-            style::rgba(150, 150, 158, 36),
-            style::ray(RayKind::Camera),
-        ),
-        _ => (
-            style::rgba(44, 160, 44, 60),
-            style::rgba(44, 160, 44, 22),
-            style::ray(RayKind::Reflection),
-        ),
-    };
-    if level > 0 {
-        // Where the reflected rays seem to come from: the mirrored eye, dashed to the mirror.
-        if let (Some(first), Some(last)) = (pieces.first(), pieces.last()) {
-            for q in [first.near[0], last.near[1]] {
-                if let Some((a, b)) = view.clip_line(beam.apex, q) {
-                    c.line(view.at(a), view.at(b), style::muted(), 1.0, true);
-                }
-            }
-        }
-        // The mirrored eye itself, when it is in the frame; named only for the first
-        // reflection (deeper chains are in the printed list), and not over the eye's name.
-        let (lo, hi) = (view.min, view.max);
-        let p = beam.apex;
-        if p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y {
-            let apex = view.at(p);
-            c.circle(
-                apex,
-                4.5,
-                Some((style::ink(), 1.2)),
-                Some(style::background()),
-            );
-            let eye = view.at(lineage.eye);
-            if level == 1 && (apex.0 - eye.0).hypot(apex.1 - eye.1) > 24.0 {
-                jobs.push(Job {
-                    candidates: vec![
-                        ((apex.0 - 9.0, apex.1), Anchor::Right),
-                        ((apex.0 + 9.0, apex.1), Anchor::Left),
-                        ((apex.0, apex.1 + 16.0), Anchor::Center),
-                    ],
-                    text: mirrored.clone(),
-                    color: style::muted(),
-                    needed: true,
-                });
-            }
+    fn seg(a: (f64, f64), b: (f64, f64), mirror: bool) -> Segment {
+        Segment {
+            a: DVec2::new(a.0, a.1),
+            b: DVec2::new(b.0, b.1),
+            mirror,
         }
     }
-    for (k, p) in pieces.iter().enumerate() {
-        let ends = match p.hit {
-            Some((_, ends)) => ends,
-            None => [
-                p.near[0] + view.far() * p.from,
-                p.near[1] + view.far() * p.to,
-            ],
-        };
-        let poly = view.clip(vec![p.near[0], ends[0], ends[1], p.near[1]]);
-        if poly.len() < 3 {
-            continue;
-        }
-        let pts: Vec<(f32, f32)> = poly.iter().map(|&q| view.at(q)).collect();
-        let fill = if p.hit.is_some() { seen } else { passing };
-        c.polygon(&pts, None, Some(fill));
-        for (a, b) in [(p.near[0], ends[0]), (p.near[1], ends[1])] {
-            if let Some((a, b)) = view.clip_line(a, b) {
-                c.line(view.at(a), view.at(b), edge, 1.0, false);
-            }
-        }
-        // The piece's number on its middle ray, towards its far end, where it is widest.
-        let (near, far) = ((p.near[0] + p.near[1]) / 2.0, (ends[0] + ends[1]) / 2.0);
-        let Some((a, b)) = view.clip_line(near, far) else {
-            continue;
-        };
-        if p.degrees < 0.5 {
-            continue; // too narrow to hold its number
-        }
-        // Not where the mirror's own name or the reflected beam's numbers go; then nearer
-        // and further along the same ray if that place is taken.
-        let along: f64 = match p.hit {
-            _ if level > 0 => 0.5,
-            Some((i, _)) if segments[i].mirror => 0.55,
-            Some(_) => 0.8,
-            None => 0.6,
-        };
-        let candidates = [0.0, -0.12, 0.12, -0.25, 0.25, -0.35]
-            .iter()
-            .map(|d| (along + d).clamp(0.1, 0.95))
-            .map(|f| (view.at(a + f * (b - a)), Anchor::Center))
-            .collect();
-        jobs.push(Job {
-            candidates,
-            text: format!("{prefix}{}", k + 1),
-            color: style::ink(),
-            // The first beam's numbers always; a deeper one's only where there is room
-            // (every piece is in the printed list).
-            needed: level == 0,
-        });
+
+    fn contains([lo, hi]: [DVec2; 2], p: DVec2) -> bool {
+        p.cmpge(lo).all() && p.cmple(hi).all()
     }
-    for (k, p) in pieces.iter().enumerate() {
-        if let (Some((r, sub)), Some((m, _))) = (&p.reflected, p.hit) {
-            let chain = match mirrored.as_str() {
-                "" => format!("eye mirrored in {}", name(segments, m)),
-                before => format!("{before}, then in {}", name(segments, m)),
-            };
-            let next = Lineage {
-                prefix: format!("{prefix}{}.", k + 1),
-                level: level + 1,
-                mirrored: chain,
-                eye: lineage.eye,
-            };
-            draw_pieces(c, view, (r, sub), segments, &next, jobs);
+
+    #[test]
+    fn the_frame_is_what_the_beam_reaches_not_a_long_mirrors_length() {
+        let beam = Beam::between(DVec2::ZERO, DVec2::new(-1.0, 1.0), DVec2::new(1.0, 1.0));
+        let segs = [seg((-1e12, 2.0), (1e12, 2.0), true)];
+        let pieces = trace(&beam, &segs, 1);
+        let f = frame(&beam, &segs, &pieces);
+        // The eye, where the beam meets the mirror (±2, 2), and the mirrored eye (0, 4),
+        // with a margin; the mirror itself is cut at the frame.
+        for p in [(0.0, 0.0), (-2.0, 2.0), (2.0, 2.0), (0.0, 4.0)] {
+            assert!(contains(f, DVec2::new(p.0, p.1)), "{p:?} outside {f:?}");
         }
+        assert!(f[0].cmpge(DVec2::splat(-3.0)).all() && f[1].cmple(DVec2::splat(5.0)).all());
+        // The beam fills the figure: the eye and the mirror are far apart on it.
+        let view = View::new(f);
+        assert!(view.at(DVec2::ZERO).1 - view.at(DVec2::new(0.0, 2.0)).1 > 150.0);
+    }
+
+    #[test]
+    fn the_frame_holds_a_room_whole_and_every_first_mirrored_eye() {
+        // The book's room: every segment lies near what the beam reaches, so all are whole.
+        let beam = Beam::between(DVec2::ZERO, DVec2::new(-0.6, 1.0), DVec2::new(1.3, 1.0));
+        let segs = [
+            seg((-0.7, 1.4), (-0.1, 1.4), false),
+            seg((0.6, 1.7), (1.4, 2.3), true),
+            seg((-1.0, 3.6), (2.0, 3.6), false),
+            seg((3.2, 1.0), (3.2, 3.4), false),
+        ];
+        let pieces = trace(&beam, &segs, 1);
+        let f = frame(&beam, &segs, &pieces);
+        for s in &segs {
+            assert!(contains(f, s.a) && contains(f, s.b), "{s:?} cut by {f:?}");
+        }
+        assert!(contains(f, DVec2::new(-1.2, 1.6)), "the mirrored eye");
+        // A mirror on the far side of the room puts the mirrored eye outside the room.
+        let eye = DVec2::new(1.0, 1.0);
+        let beam = Beam::between(eye, DVec2::new(1.0, 0.2), DVec2::new(1.0, 2.0));
+        let segs = [
+            seg((3.0, 0.0), (3.0, 4.0), true),
+            seg((0.0, -2.0), (0.0, 5.0), false),
+        ];
+        let pieces = trace(&beam, &segs, 1);
+        assert!(contains(frame(&beam, &segs, &pieces), DVec2::new(5.0, 1.0)));
+    }
+
+    #[test]
+    fn a_beam_that_meets_nothing_is_framed_as_far_as_the_nearest_segment() {
+        let beam = Beam::between(DVec2::ZERO, DVec2::new(-1.0, 1.0), DVec2::new(1.0, 1.0));
+        let segs = [seg((5.0, -1.0), (6.0, -1.0), false)];
+        let pieces = trace(&beam, &segs, 1);
+        assert!(pieces.iter().all(|p| p.hit.is_none()));
+        let [lo, hi] = frame(&beam, &segs, &pieces);
+        // Not a point at the eye: the beam is drawn some way out.
+        assert!(hi.y > 3.0 && lo.y < 0.0, "{lo} {hi}");
+    }
+
+    #[test]
+    fn a_box_lies_in_a_convex_polygon_only_when_all_its_corners_do() {
+        let square = [(0.0, 0.0), (10.0, 0.0), (10.0, 10.0), (0.0, 10.0)];
+        assert!(box_in(&[1.0, 1.0, 9.0, 9.0], &square));
+        assert!(!box_in(&[5.0, 5.0, 11.0, 9.0], &square));
+        let mut other = square;
+        other.reverse();
+        assert!(box_in(&[1.0, 1.0, 9.0, 9.0], &other), "either winding");
     }
 }

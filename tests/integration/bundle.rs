@@ -615,7 +615,7 @@ fn beam_prints_the_pieces_of_a_clipped_beam_and_draws_them() {
     for line in [
         "(83.3952° wide)",
         "piece 1: 9.1671° wide, wall 3 sees it, from (3.2, 2.4615) to (3.2, 3.4)",
-        "piece 2: 11.9356° wide, passes every segment",
+        "piece 2: 11.9356° wide, meets no segment",
         "piece 3: 11.8887° wide, mirror 1 sees it, from (1.4, 2.3) to (0.6, 1.7)",
         "reflected: a beam from (-1.2, 1.6) (the eye mirrored in mirror 1)",
         "piece 3.1: 11.8887° wide, wall 3 sees it",

@@ -1,0 +1,332 @@
+//! `rtlab beam`'s output after a QA pass: the text prints no rounding noise and tells apart
+//! what differs; its messages name the limits; the figure frames what the beam reaches,
+//! shows the mirrored eye its subtitle names, and keeps its labels clear and in the frame.
+
+use crate::common::{rtlab, stderr};
+use rtlab::cli::beam::{parse, Args};
+use rtlab::viz::canvas::{Canvas, Prim};
+use rtlab::viz::labels::{text_box, Box2};
+
+fn run(args: &[&str]) -> String {
+    let mut all = vec!["beam"];
+    all.extend(args);
+    let o = rtlab(&all);
+    assert!(o.status.success(), "{}", stderr(&o));
+    String::from_utf8(o.stdout).unwrap()
+}
+
+fn fails(args: &[&str]) -> String {
+    let mut all = vec!["beam"];
+    all.extend(args);
+    let o = rtlab(&all);
+    assert!(!o.status.success(), "{args:?} should fail");
+    stderr(&o)
+}
+
+#[test]
+fn the_text_prints_no_rounding_noise_and_json_agrees() {
+    // The wall's end lies exactly at x = 0, which the beam's edge computes as -2.2e-16.
+    let args = [
+        "--eye", "1,0", "--from", "1,3", "--to", "-1,3", "--wall", "0,3,2,3",
+    ];
+    let text = run(&args);
+    assert!(
+        text.contains("wall 1 sees it, from (2, 3) to (0, 3)"),
+        "{text}"
+    );
+    assert!(!text.contains("e-16"), "{text}");
+    let mut json = args.to_vec();
+    json.extend(["--format", "json"]);
+    let out = run(&json);
+    assert!(!out.contains("e-16") && !out.contains("e-17"), "{out}");
+    let doc: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(
+        doc["pieces"][0]["seen_by"]["points"][1],
+        serde_json::json!([0.0, 3.0])
+    );
+    // A piece's edge pointing straight up is (0, 1), not (1.1e-16, 1).
+    let out = run(&[
+        "--from", "1,1", "--to", "-1,1", "--wall", "0,2,1,2", "--format", "json",
+    ]);
+    let doc: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(doc["pieces"][1]["to"], serde_json::json!([0.0, 1.0]));
+}
+
+#[test]
+fn a_piece_that_meets_nothing_says_so() {
+    let text = run(&["--from", "1,1", "--to", "-1,1", "--wall", "0,2,1,2"]);
+    assert!(
+        text.contains("piece 3: 45° wide, meets no segment"),
+        "{text}"
+    );
+    assert!(!text.contains("passes every segment"), "{text}");
+}
+
+#[test]
+fn widths_and_directions_print_enough_digits_to_be_told_apart() {
+    // 179.99999994° is less than half a turn, and must read so.
+    let text = run(&["--from", "1,0", "--to", "-1,1.1e-9", "--wall", "-3,1,3,1"]);
+    assert!(text.contains("(179.9999999° wide)"), "{text}");
+    assert!(!text.contains("180°"), "{text}");
+    let text = run(&["--from", "1,1", "--to", "1,1.000001", "--wall", "0,3,3,0"]);
+    assert!(
+        text.contains("from direction (1, 1) to (1, 1.000001)"),
+        "{text}"
+    );
+    assert!(
+        text.contains("from (1.5, 1.5) to (1.499999, 1.500001)"),
+        "{text}"
+    );
+}
+
+#[test]
+fn messages_name_the_limits() {
+    for depth in ["-1", "4"] {
+        let e = fails(&[
+            "--from", "1,0", "--to", "0,1", "--wall", "0,1,1,0", "--depth", depth,
+        ]);
+        assert!(e.contains(&format!("{depth} is not in 0..=3")), "{e}");
+    }
+    let e = fails(&[
+        "--from",
+        "-1,1",
+        "--to",
+        "1,1",
+        "--mirror",
+        "-1e-13,2,1e-13,2",
+    ]);
+    assert!(
+        e.contains("mirror 1 is 2.0e-13 long: a segment must be longer than 2.0e-12"),
+        "{e}"
+    );
+}
+
+fn beam_args(
+    eye: &str,
+    from: &str,
+    to: &str,
+    walls: &[&str],
+    mirrors: &[&str],
+    depth: u32,
+) -> Args {
+    Args {
+        eye: eye.into(),
+        from: from.into(),
+        to: to.into(),
+        wall: walls.iter().map(|s| s.to_string()).collect(),
+        mirror: mirrors.iter().map(|s| s.to_string()).collect(),
+        depth,
+        format: "text".into(),
+        output: None,
+    }
+}
+
+fn draw(a: &Args) -> Canvas {
+    let (beam, segments) = parse(a).unwrap();
+    let pieces = rtlab::accel::beam::trace(&beam, &segments, a.depth);
+    rtlab::viz::beam::figure(&beam, &segments, &pieces)
+}
+
+/// The frame: the one rectangle stroked in the grid colour.
+fn frame(c: &Canvas) -> Box2 {
+    c.display
+        .iter()
+        .find_map(|p| match p {
+            Prim::Rect {
+                min,
+                size,
+                stroke: Some(_),
+                ..
+            } => Some([min[0], min[1], min[0] + size[0], min[1] + size[1]]),
+            _ => None,
+        })
+        .expect("a frame")
+}
+
+/// The eye: the one filled dot with no outline.
+fn eye(c: &Canvas) -> [f32; 2] {
+    c.display
+        .iter()
+        .find_map(|p| match p {
+            Prim::Circle {
+                center,
+                stroke: None,
+                fill: Some(_),
+                ..
+            } => Some(*center),
+            _ => None,
+        })
+        .expect("the eye")
+}
+
+/// The mirrored eyes: hollow dots.
+fn apexes(c: &Canvas) -> Vec<[f32; 2]> {
+    c.display
+        .iter()
+        .filter_map(|p| match p {
+            Prim::Circle {
+                center,
+                stroke: Some(_),
+                ..
+            } => Some(*center),
+            _ => None,
+        })
+        .collect()
+}
+
+/// The walls and mirrors, as drawn (the thick lines).
+fn segments(c: &Canvas) -> Vec<([f32; 2], [f32; 2])> {
+    c.display
+        .iter()
+        .filter_map(|p| match p {
+            Prim::Line {
+                from, to, width, ..
+            } if *width > 3.0 => Some((*from, *to)),
+            _ => None,
+        })
+        .collect()
+}
+
+/// The labels in the drawing (between the title and the legend) and their boxes.
+fn labels(c: &Canvas) -> Vec<(String, Box2)> {
+    c.display
+        .iter()
+        .filter_map(|p| match p {
+            Prim::Text {
+                at,
+                text,
+                size,
+                anchor,
+                ..
+            } if at[1] > 80.0 && at[1] < 560.0 => {
+                Some((text.clone(), text_box((at[0], at[1]), text, *size, *anchor)))
+            }
+            _ => None,
+        })
+        .collect()
+}
+
+fn texts(c: &Canvas) -> String {
+    c.display
+        .iter()
+        .filter_map(|p| match p {
+            Prim::Text { text, .. } => Some(text.as_str()),
+            _ => None,
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+fn inside(b: &Box2, p: [f32; 2]) -> bool {
+    p[0] >= b[0] && p[0] <= b[2] && p[1] >= b[1] && p[1] <= b[3]
+}
+
+fn overlaps(a: &Box2, b: &Box2) -> bool {
+    a[0] < b[2] && b[0] < a[2] && a[1] < b[3] && b[1] < a[3]
+}
+
+#[test]
+fn a_mirror_a_trillion_long_does_not_shrink_the_beam() {
+    let c = draw(&beam_args(
+        "0,0",
+        "-1,1",
+        "1,1",
+        &[],
+        &["-1e12,2,1e12,2"],
+        1,
+    ));
+    let f = frame(&c);
+    let e = eye(&c);
+    let mirror = segments(&c)[0];
+    // The mirror is cut at the frame, and the eye is well away from it.
+    assert!((mirror.0[0] - f[0]).abs() < 1.0 && (mirror.1[0] - f[2]).abs() < 1.0);
+    assert!(e[1] - mirror.0[1] > 150.0, "eye {e:?}, mirror {mirror:?}");
+    // The mirrored eye the subtitle names is drawn, in the frame, and named.
+    let apex = apexes(&c);
+    assert_eq!(apex.len(), 1);
+    assert!(inside(&f, apex[0]), "{apex:?} outside {f:?}");
+    assert!(texts(&c).contains("eye mirrored in mirror 1"));
+}
+
+#[test]
+fn the_mirrored_eye_behind_a_mirror_is_framed_and_named() {
+    let c = draw(&beam_args(
+        "1,1",
+        "1,0.2",
+        "1,2",
+        &["2,2.5,2.5,2.8", "0,-2,0,5"],
+        &["3,0,3,4"],
+        1,
+    ));
+    let f = frame(&c);
+    let apex = apexes(&c);
+    assert_eq!(apex.len(), 1);
+    assert!(inside(&f, apex[0]), "{apex:?} outside {f:?}");
+    let all = texts(&c);
+    assert!(all.contains("eye mirrored in mirror 1"), "{all}");
+    assert!(all.contains("where the dashed lines meet"), "{all}");
+}
+
+#[test]
+fn a_room_without_reflections_does_not_mention_them() {
+    let c = draw(&beam_args("0,0", "-1,1", "1,1", &["-1,2,1,2"], &[], 1));
+    let all = texts(&c);
+    assert!(!all.contains("dashed") && !all.contains("Green"), "{all}");
+    assert!(apexes(&c).is_empty());
+    let c = draw(&beam_args("0,0", "-1,1", "1,1", &[], &["-1,2,1,2"], 0));
+    let all = texts(&c);
+    assert!(all.contains("--depth 0 follows no reflection"), "{all}");
+    assert!(!all.contains("dashed"), "{all}");
+}
+
+#[test]
+fn three_reflections_in_a_box_of_mirrors_stay_readable() {
+    let c = draw(&beam_args(
+        "0.1,0.2",
+        "1,0.3",
+        "-0.2,1",
+        &[],
+        &["-2,-2,2,-2", "2,-2,2,2", "2,2,-2,2", "-2,2,-2,-2"],
+        3,
+    ));
+    let e = eye(&c);
+    let segs = segments(&c);
+    let labels = labels(&c);
+    assert!(labels.len() > 8, "{labels:?}");
+    for (i, (text, b)) in labels.iter().enumerate() {
+        // Whole, inside the figure, off the eye, off the mirrors and off each other.
+        assert!(b[0] >= 0.0 && b[2] <= 960.0, "{text} cut off: {b:?}");
+        assert!(
+            !overlaps(b, &[e[0] - 4.5, e[1] - 4.5, e[0] + 4.5, e[1] + 4.5]),
+            "{text} on the eye"
+        );
+        for (p, q) in &segs {
+            for k in 0..=100 {
+                let t = k as f32 / 100.0;
+                let x = [p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])];
+                assert!(!inside(b, x), "{text} on a mirror");
+            }
+        }
+        for (other, d) in &labels[i + 1..] {
+            assert!(!overlaps(b, d), "{text} and {other} overlap");
+        }
+        // The third reflection's pieces are left to the printed list.
+        assert!(text.matches('.').count() < 3, "{text}");
+    }
+    assert!(texts(&c).contains("Pieces without a number are in the printed list."));
+    // The first beam is drawn over its reflections: every blue fill after every green one.
+    let fills: Vec<&str> = c
+        .display
+        .iter()
+        .filter_map(|p| match p {
+            Prim::Polygon { fill: Some(f), .. } => Some(f.as_str()),
+            _ => None,
+        })
+        .collect();
+    let last_green = fills
+        .iter()
+        .rposition(|f| f.starts_with("#2ca02c"))
+        .unwrap();
+    let first_blue = fills.iter().position(|f| f.starts_with("#1f77b4")).unwrap();
+    assert!(first_blue > last_green, "{fills:?}");
+}
