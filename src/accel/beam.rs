@@ -295,10 +295,11 @@ fn reflect(apex: DVec2, da: DVec2, db: DVec2, s: &Segment, i: usize) -> Beam {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
-    fn seg(a: (f64, f64), b: (f64, f64), mirror: bool) -> Segment {
+    /// A segment from a to b (for tests here and of the figure).
+    pub(crate) fn seg(a: (f64, f64), b: (f64, f64), mirror: bool) -> Segment {
         Segment {
             a: DVec2::new(a.0, a.1),
             b: DVec2::new(b.0, b.1),

@@ -189,7 +189,7 @@ pub fn text(rays: &[Ray], w: &BundleWorking) -> String {
             s,
             "  the directions change sign along {}: the bundle is not sign-coherent, so there\n  \
              is no interval test for the box (on any axis); the walk sends each ray alone",
-            mixed_axes(w)
+            w.mixed_axes()
         );
         for k in 0..3 {
             let _ = writeln!(s, "    {}", axis_signs(rays, w, k));
@@ -239,21 +239,7 @@ pub fn text(rays: &[Ray], w: &BundleWorking) -> String {
     s
 }
 
-const AXES: [&str; 3] = ["x", "y", "z"];
-
-/// The axes along which the directions change sign ("x", "x and z", ...); the figure says
-/// the same.
-fn mixed_axes(w: &BundleWorking) -> String {
-    let names: Vec<&str> = (0..3)
-        .filter(|&k| !w.coherent_axes[k])
-        .map(|k| AXES[k])
-        .collect();
-    match names.as_slice() {
-        [] => "no axis".into(),
-        [one] => one.to_string(),
-        [init @ .., last] => format!("{} and {last}", init.join(", ")),
-    }
-}
+const AXES: [&str; 3] = BundleWorking::AXES;
 
 /// One axis's signs for a bundle that is not sign-coherent: "x: d from −0.3 to 0.3, changes
 /// sign", or "z: d from 1 to 1, one sign (+)". The figure's rows say the same.

@@ -304,6 +304,17 @@ impl Canvas {
         });
     }
 
+    /// Every text drawn so far, in order (from the display list: for tests and checks).
+    pub fn texts(&self) -> Vec<&str> {
+        self.display
+            .iter()
+            .filter_map(|p| match p {
+                Prim::Text { text, .. } => Some(text.as_str()),
+                _ => None,
+            })
+            .collect()
+    }
+
     /// Width of `text` at `size` pixels.
     pub fn text_width(text: &str, size: f32) -> f32 {
         let f = font();

@@ -5,6 +5,7 @@
 pub mod beam;
 pub mod bundle;
 pub mod canvas;
+pub mod clip;
 pub mod compare;
 pub mod diff;
 pub mod forward;

@@ -206,17 +206,6 @@ fn labels(c: &Canvas) -> Vec<(String, Box2)> {
         .collect()
 }
 
-fn texts(c: &Canvas) -> String {
-    c.display
-        .iter()
-        .filter_map(|p| match p {
-            Prim::Text { text, .. } => Some(text.as_str()),
-            _ => None,
-        })
-        .collect::<Vec<_>>()
-        .join("\n")
-}
-
 fn inside(b: &Box2, p: [f32; 2]) -> bool {
     p[0] >= b[0] && p[0] <= b[2] && p[1] >= b[1] && p[1] <= b[3]
 }
@@ -245,7 +234,7 @@ fn a_mirror_a_trillion_long_does_not_shrink_the_beam() {
     let apex = apexes(&c);
     assert_eq!(apex.len(), 1);
     assert!(inside(&f, apex[0]), "{apex:?} outside {f:?}");
-    assert!(texts(&c).contains("eye mirrored in mirror 1"));
+    assert!(c.texts().join("\n").contains("eye mirrored in mirror 1"));
 }
 
 #[test]
@@ -262,7 +251,7 @@ fn the_mirrored_eye_behind_a_mirror_is_framed_and_named() {
     let apex = apexes(&c);
     assert_eq!(apex.len(), 1);
     assert!(inside(&f, apex[0]), "{apex:?} outside {f:?}");
-    let all = texts(&c);
+    let all = c.texts().join("\n");
     assert!(all.contains("eye mirrored in mirror 1"), "{all}");
     assert!(all.contains("where the dashed lines meet"), "{all}");
 }
@@ -270,11 +259,11 @@ fn the_mirrored_eye_behind_a_mirror_is_framed_and_named() {
 #[test]
 fn a_room_without_reflections_does_not_mention_them() {
     let c = draw(&beam_args("0,0", "-1,1", "1,1", &["-1,2,1,2"], &[], 1));
-    let all = texts(&c);
+    let all = c.texts().join("\n");
     assert!(!all.contains("dashed") && !all.contains("Green"), "{all}");
     assert!(apexes(&c).is_empty());
     let c = draw(&beam_args("0,0", "-1,1", "1,1", &[], &["-1,2,1,2"], 0));
-    let all = texts(&c);
+    let all = c.texts().join("\n");
     assert!(all.contains("--depth 0 follows no reflection"), "{all}");
     assert!(!all.contains("dashed"), "{all}");
 }
@@ -313,7 +302,10 @@ fn three_reflections_in_a_box_of_mirrors_stay_readable() {
         // The third reflection's pieces are left to the printed list.
         assert!(text.matches('.').count() < 3, "{text}");
     }
-    assert!(texts(&c).contains("Pieces without a number are in the printed list."));
+    assert!(c
+        .texts()
+        .join("\n")
+        .contains("Pieces without a number are in the printed list."));
     // The first beam is drawn over its reflections: every blue fill after every green one.
     let fills: Vec<&str> = c
         .display

@@ -108,17 +108,6 @@ fn the_figure_follows_the_render_options() {
     );
 }
 
-/// The figure's text, from its display list.
-fn texts(c: &rtlab::viz::canvas::Canvas) -> Vec<String> {
-    c.display
-        .iter()
-        .filter_map(|p| match p {
-            Prim::Text { text, .. } => Some(text.clone()),
-            _ => None,
-        })
-        .collect()
-}
-
 /// A block cut by the image's edge: an 11×9 image's pixel (10, 7) is in the block of columns
 /// 8–10 (there is no column 11) and rows 4–7, 12 rays; the title says so, and every ray,
 /// box and dot lies inside its panel's frame.
@@ -130,7 +119,7 @@ fn a_clipped_block_is_captioned_by_its_pixels_and_drawn_inside_its_panels() {
     let want: Vec<(u32, u32)> = (4..8).flat_map(|y| (8..11).map(move |x| (x, y))).collect();
     assert_eq!(b.pixels, want);
     let c = rtlab::viz::bundle::draw(&scene, 10, 7, 0).unwrap();
-    let all = texts(&c).join("\n");
+    let all = c.texts().join("\n");
     assert!(
         all.contains("A bundle of 12 camera rays")
             && all.contains("sample 0 of pixels x 8–10, y 4–7"),
@@ -142,7 +131,10 @@ fn a_clipped_block_is_captioned_by_its_pixels_and_drawn_inside_its_panels() {
     // full bundle over 8×8 pixels.
     let mut sub = scene_teapot();
     sub.render.subsample = 2;
-    let all = texts(&rtlab::viz::bundle::draw(&sub, 320, 240, 0).unwrap()).join("\n");
+    let all = rtlab::viz::bundle::draw(&sub, 320, 240, 0)
+        .unwrap()
+        .texts()
+        .join("\n");
     assert!(
         all.contains("A bundle of 16 camera rays")
             && all.contains("sample 0 of pixels x 320/322/324/326, y 240/242/244/246"),

@@ -28,18 +28,8 @@ fn run(args: &[&str]) -> String {
     String::from_utf8(o.stdout).unwrap()
 }
 
-fn texts(c: &Canvas) -> Vec<String> {
-    c.display
-        .iter()
-        .filter_map(|p| match p {
-            Prim::Text { text, .. } => Some(text.clone()),
-            _ => None,
-        })
-        .collect()
-}
-
 fn has_text(c: &Canvas, part: &str) -> bool {
-    texts(c).iter().any(|t| t.contains(part))
+    c.texts().iter().any(|t| t.contains(part))
 }
 
 /// Where the figure draws P (the one dot of radius 3).
@@ -99,7 +89,7 @@ fn a_bundle_along_y_is_seen_along_another_axis_and_stays_in_its_panel() {
     assert!(
         has_text(&c, "Seen along x (y to the right, z up)"),
         "{:?}",
-        texts(&c)
+        c.texts()
     );
     // The rays are lines from P to the right edge, in the direction they have.
     let p = p_at(&c);
@@ -232,14 +222,14 @@ const MIXED: &[&str] = &[
 #[test]
 fn a_mixed_bundle_names_the_axes_that_change_sign() {
     let c = figure(MIXED);
-    assert!(has_text(&c, "change sign along x and y"), "{:?}", texts(&c));
+    assert!(has_text(&c, "change sign along x and y"), "{:?}", c.texts());
     assert!(has_text(&c, "dx changes sign"));
     assert!(has_text(&c, "dy changes sign"));
     assert!(has_text(&c, "dz = 1 for every ray: one sign"));
     assert!(!has_text(&c, "dz changes sign"));
     assert!(!has_text(&c, "(not sign-coherent)"));
     // No bounds, so no sentence about them.
-    assert!(!has_text(&c, "The bounds hold"), "{:?}", texts(&c));
+    assert!(!has_text(&c, "The bounds hold"), "{:?}", c.texts());
     assert!(has_text(&c, "no interval test: mixed along x and y"));
 
     let text = run(MIXED);

@@ -52,6 +52,25 @@ pub struct BundleWorking {
     pub rays: Vec<RayVerdict>,
 }
 
+impl BundleWorking {
+    /// The names of the axes.
+    pub const AXES: [&'static str; 3] = ["x", "y", "z"];
+
+    /// The axes along which the directions change sign, for text: "x", "x and y",
+    /// "x, y and z" ("no axis" for a sign-coherent bundle).
+    pub fn mixed_axes(&self) -> String {
+        let names: Vec<&str> = (0..3)
+            .filter(|&k| !self.coherent_axes[k])
+            .map(|k| Self::AXES[k])
+            .collect();
+        match names.as_slice() {
+            [] => "no axis".into(),
+            [one] => one.to_string(),
+            [init @ .., last] => format!("{} and {last}", init.join(", ")),
+        }
+    }
+}
+
 /// The interval test and the lane test of up to [`BUNDLE`] rays (t ≥ 0) against one box.
 pub fn bundle_working(rays: &[Ray], bounds: &Aabb) -> BundleWorking {
     assert!((1..=BUNDLE).contains(&rays.len()), "1 to {BUNDLE} rays");

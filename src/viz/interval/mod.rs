@@ -1,16 +1,20 @@
 //! The figure of `rtlab intersect box --bundle-to`: a bundle of rays against one box of a
-//! BVH node. Left, the rays and the box seen along the axis the rays move along least (y
-//! when that is a tie), with the interval test's two bounds drawn where they fall on every
+//! BVH node. Left, the rays and the box seen along the axis in which the rays fan out most
+//! (y when that is a tie), with the interval test's two bounds drawn where they fall on every
 //! ray; right, the same test along t: each axis's bounds as a bar (or, for a bundle that is
 //! not sign-coherent, which axes change sign), the three together, and each ray's own
 //! entry.
 
 use super::canvas::{Anchor, Canvas};
+use super::labels::{text_box, Labels};
 use super::style;
 use crate::accel::BundleWorking;
 use crate::math::Ray;
 use crate::shapes::working::{short, tiny};
 use glam::DVec2;
+
+mod view;
+use view::View;
 
 const W: f32 = 960.0;
 const H: f32 = 500.0;
@@ -34,7 +38,7 @@ pub fn figure(rays: &[Ray], w: &BundleWorking) -> Canvas {
     let verdict = match w.kept {
         None => format!(
             "not sign-coherent: the directions change sign along {}, so no interval test for the box; each ray goes alone",
-            mixed_axes(w)
+            w.mixed_axes()
         ),
         Some(true) => format!(
             "kept: the bounds leave room for a ray to enter; then the lane test: {entering} of {n} rays enter"
@@ -96,176 +100,10 @@ pub fn figure(rays: &[Ray], w: &BundleWorking) -> Canvas {
     c
 }
 
-const AXES: [&str; 3] = ["x", "y", "z"];
-
-/// The axes along which the directions change sign: "x", "x and y".
-fn mixed_axes(w: &BundleWorking) -> String {
-    let names: Vec<&str> = (0..3)
-        .filter(|&k| !w.coherent_axes[k])
-        .map(|k| AXES[k])
-        .collect();
-    match names.as_slice() {
-        [] => "no axis".into(),
-        [one] => one.to_string(),
-        [init @ .., last] => format!("{} and {last}", init.join(", ")),
-    }
-}
-
-/// The left panel's projection: the scene seen along one axis, drawn in pixels, one scale
-/// for both directions.
-struct View {
-    /// The axis seen along, then the axes drawn to the right and up.
-    axes: [usize; 3],
-    /// The panel, in pixels: (x0, y0, x1, y1).
-    rect: (f64, f64, f64, f64),
-    /// The point drawn at the panel's centre, (right, up), and pixels per unit.
-    centre: DVec2,
-    scale: f64,
-}
-
-impl View {
-    /// Seen along the axis that shows the bundle best: of the views in which every ray
-    /// is a clear line (at least half its length across the view; the axis in which the
-    /// unit directions are smallest always qualifies, at worst with 0.58), the one in which
-    /// the rays fan out most; y on ties (the book's view). To the right, of the other two
-    /// axes, the one the rays move along most (on ties, the next after the view axis: z, x
-    /// for y), so P + t·d reads left to right as on the t axis. The box and P fill the panel.
-    fn new(rays: &[Ray], w: &BundleWorking, (x0, y0, x1, y1): (f32, f32, f32, f32)) -> View {
-        let unit = |r: &Ray, k: usize| (r.dir[k] / r.dir.length()).abs();
-        let most = |k: usize| rays.iter().map(|r| unit(r, k)).fold(0.0, f64::max);
-        let mean = |k: usize| rays.iter().map(|r| unit(r, k)).sum::<f64>();
-        let across = |k: usize, d: glam::DVec3| DVec2::new(d[(k + 1) % 3], d[(k + 2) % 3]);
-        let clear = |k: usize| {
-            rays.iter()
-                .all(|r| across(k, r.dir).length() >= 0.5 * r.dir.length())
-        };
-        let fan = |k: usize| {
-            let (a, b) = (across(k, rays[0].dir), across(k, rays[rays.len() - 1].dir));
-            a.angle_to(b).abs()
-        };
-        // The first of the clear views that fans out most; never empty, but should it be,
-        // the axis in which the directions are smallest.
-        let along = [1, 0, 2]
-            .into_iter()
-            .filter(|&k| clear(k))
-            .reduce(|best, k| if fan(k) > fan(best) + 1e-9 { k } else { best })
-            .unwrap_or_else(|| {
-                [1, 0, 2]
-                    .into_iter()
-                    .min_by(|&a, &b| most(a).total_cmp(&most(b)))
-                    .expect("three axes")
-            });
-        let (mut right, mut up) = ((along + 1) % 3, (along + 2) % 3);
-        if mean(up) > mean(right) {
-            (right, up) = (up, right);
-        }
-        let flat = |p: [f64; 3]| DVec2::new(p[right], p[up]);
-        let (bmin, bmax) = (flat(w.min.map(f64::from)), flat(w.max.map(f64::from)));
-        let origin = flat(rays[0].origin.to_array());
-        let (lo, hi) = (bmin.min(origin), bmax.max(origin));
-        let pad = (hi - lo).max_element().max(1e-6) * 0.15;
-        let (lo, hi) = (lo - pad, hi + pad);
-        let rect = (x0 as f64, y0 as f64, x1 as f64, y1 as f64);
-        let scale = ((rect.2 - rect.0) / (hi.x - lo.x)).min((rect.3 - rect.1) / (hi.y - lo.y));
-        View {
-            axes: [along, right, up],
-            rect,
-            centre: (lo + hi) * 0.5,
-            scale,
-        }
-    }
-
-    /// A 3D point in pixels.
-    fn px(&self, p: glam::DVec3) -> DVec2 {
-        let (x0, y0, x1, y1) = self.rect;
-        DVec2::new(
-            (x0 + x1) / 2.0 + (p[self.axes[1]] - self.centre.x) * self.scale,
-            (y0 + y1) / 2.0 - (p[self.axes[2]] - self.centre.y) * self.scale,
-        )
-    }
-
-    fn inside(&self, p: DVec2) -> bool {
-        let (x0, y0, x1, y1) = self.rect;
-        (x0..=x1).contains(&p.x) && (y0..=y1).contains(&p.y)
-    }
-
-    /// The part of segment a–b inside the panel (Liang–Barsky), or `None`.
-    fn clip(&self, a: DVec2, b: DVec2) -> Option<(DVec2, DVec2)> {
-        let (x0, y0, x1, y1) = self.rect;
-        let d = b - a;
-        let (mut t0, mut t1) = (0.0f64, 1.0f64);
-        for (p, q) in [
-            (-d.x, a.x - x0),
-            (d.x, x1 - a.x),
-            (-d.y, a.y - y0),
-            (d.y, y1 - a.y),
-        ] {
-            if p == 0.0 {
-                if q < 0.0 {
-                    return None;
-                }
-            } else if p < 0.0 {
-                t0 = t0.max(q / p);
-            } else {
-                t1 = t1.min(q / p);
-            }
-        }
-        (t0 <= t1 && a.is_finite() && b.is_finite()).then(|| (a + d * t0, a + d * t1))
-    }
-
-    /// The t at which `r`, from P inside the panel, leaves it: `None` for a ray seen
-    /// end-on (its motion across the view under 10⁻⁶ of its length; the choice of view
-    /// rules that out, but the drawing must not depend on it). Such a ray has no such t:
-    /// an unguarded ∞ here put 0·∞ = NaN into the drawing, which tiny-skia drew as a line
-    /// towards the canvas's corner, through the title.
-    fn leave(&self, r: &Ray) -> Option<f64> {
-        let (x0, y0, x1, y1) = self.rect;
-        let (o, d) = (
-            self.px(r.origin),
-            self.px(r.origin + r.dir) - self.px(r.origin),
-        );
-        // Across the view, in pixels per unit of t, against the whole direction's length.
-        if d.length() < 1e-6 * r.dir.length() * self.scale {
-            return None;
-        }
-        let mut t = f64::INFINITY;
-        for (o, d, lo, hi) in [(o.x, d.x, x0, x1), (o.y, d.y, y0, y1)] {
-            if d != 0.0 {
-                t = t.min(((lo - o) / d).max((hi - o) / d));
-            }
-        }
-        t.is_finite().then_some(t)
-    }
-}
+const AXES: [&str; 3] = BundleWorking::AXES;
 
 fn pt(p: DVec2) -> (f32, f32) {
     (p.x as f32, p.y as f32)
-}
-
-/// A text's rectangle (x0, y0, x1, y1), as [`Canvas::text`] places it.
-fn text_area(at: DVec2, text: &str, size: f32, anchor: Anchor) -> (f64, f64, f64, f64) {
-    let w = Canvas::text_width(text, size) as f64;
-    let x = match anchor {
-        Anchor::Left => at.x,
-        Anchor::Center => at.x - w / 2.0,
-        Anchor::Right => at.x - w,
-    };
-    let h = size as f64 * 0.6;
-    (x, at.y - h, x + w, at.y + h)
-}
-
-fn overlap(a: (f64, f64, f64, f64), b: (f64, f64, f64, f64)) -> bool {
-    a.0 < b.2 && b.0 < a.2 && a.1 < b.3 && b.1 < a.3
-}
-
-/// A label's `area` is inside the panel and clear of every area `taken`.
-fn free(v: &View, taken: &[(f64, f64, f64, f64)], area: (f64, f64, f64, f64)) -> bool {
-    let (x0, y0, x1, y1) = v.rect;
-    area.0 >= x0 + 2.0
-        && area.2 <= x1 - 2.0
-        && area.1 >= y0 + 2.0
-        && area.3 <= y1 - 2.0
-        && !taken.iter().any(|&t| overlap(t, area))
 }
 
 /// Left panel: box, rays, entry dots, and the two bounds as fronts across the rays.
@@ -305,33 +143,28 @@ fn space(c: &mut Canvas, rays: &[Ray], w: &BundleWorking, bounds: Option<(f32, f
     // Labels are kept off each other and off P: `taken` holds what is written so far.
     let o = v.px(rays[0].origin);
     let p_label = o + DVec2::new(0.0, 14.0);
-    let mut taken = vec![
-        (o.x - 5.0, o.y - 5.0, o.x + 5.0, o.y + 5.0),
-        text_area(p_label, "P", 12.0, Anchor::Center),
-    ];
+    let (x0, y0, x1, y1) = v.rect;
+    let mut labels = Labels::new([x0 as f32, y0 as f32, x1 as f32, y1 as f32]);
+    labels.block_point(pt(o), 5.0);
+    labels.block(text_box(pt(p_label), "P", 12.0, Anchor::Center));
     let dots: Vec<DVec2> = rays
         .iter()
         .zip(&w.rays)
         .filter(|(_, verdict)| verdict.own)
         .map(|(r, verdict)| v.px(r.at(verdict.t_enter as f64)))
         .collect();
-    taken.extend(
-        dots.iter()
-            .map(|d| (d.x - 4.0, d.y - 4.0, d.x + 4.0, d.y + 4.0)),
-    );
+    for d in &dots {
+        labels.block_point(pt(*d), 4.0);
+    }
     // Outside the box, under it if that is clear: a label inside would cover the entry
     // dots of the rays that enter through its sides.
     let box_label = [
-        (DVec2::new(far.x, far.y + 9.0), Anchor::Right),
-        (DVec2::new(corner.x, far.y + 9.0), Anchor::Left),
-        (DVec2::new(far.x, corner.y - 9.0), Anchor::Right),
-        (DVec2::new(corner.x, corner.y - 9.0), Anchor::Left),
-    ]
-    .into_iter()
-    .find(|&(at, anchor)| free(v, &taken, text_area(at, "box", 11.0, anchor)))
-    .unwrap_or((DVec2::new(far.x, far.y + 9.0), Anchor::Right));
-    taken.push(text_area(box_label.0, "box", 11.0, box_label.1));
-    c.text(pt(box_label.0), "box", 11.0, style::muted(), box_label.1);
+        (pt(DVec2::new(far.x, far.y + 9.0)), Anchor::Right),
+        (pt(DVec2::new(corner.x, far.y + 9.0)), Anchor::Left),
+        (pt(DVec2::new(far.x, corner.y - 9.0)), Anchor::Right),
+        (pt(DVec2::new(corner.x, corner.y - 9.0)), Anchor::Left),
+    ];
+    labels.place_any(c, &box_label, "box", 11.0, style::muted());
     // Each ray from its origin to where it leaves the panel; a ray seen end-on as a ring.
     for (r, verdict) in rays.iter().zip(&w.rays) {
         let color = if verdict.lane.unwrap_or(verdict.own) {
@@ -378,32 +211,28 @@ fn space(c: &mut Canvas, rays: &[Ray], w: &BundleWorking, bounds: Option<(f32, f
             };
             let (top, low) = (extreme(|p| p.y), extreme(|p| -p.y));
             let (left, right) = (extreme(|p| p.x), extreme(|p| -p.x));
-            let above = (top + DVec2::new(0.0, -12.0), Anchor::Center);
-            let below = (low + DVec2::new(0.0, 12.0), Anchor::Center);
+            let above = (pt(top + DVec2::new(0.0, -12.0)), Anchor::Center);
+            let below = (pt(low + DVec2::new(0.0, 12.0)), Anchor::Center);
             let mut tries = if name == "entry bound" {
                 vec![above, below]
             } else {
                 vec![below, above]
             };
             tries.extend([
-                (right + DVec2::new(8.0, 0.0), Anchor::Left),
-                (left + DVec2::new(-8.0, 0.0), Anchor::Right),
+                (pt(right + DVec2::new(8.0, 0.0)), Anchor::Left),
+                (pt(left + DVec2::new(-8.0, 0.0)), Anchor::Right),
             ]);
             let text = format!("t = {name}");
-            let fits = |&(at, anchor): &(DVec2, Anchor)| {
-                free(v, &taken, text_area(at, &text, 11.0, anchor))
-            };
-            if let Some((at, anchor)) = tries.iter().copied().find(fits) {
+            if let Some((at, anchor)) = labels.reserve(&tries, &text, 11.0, false) {
                 // On a plate of the background, so that the rays under it do not cross it.
-                let area = text_area(at, &text, 11.0, anchor);
-                taken.push(area);
+                let [bx0, by0, bx1, by1] = text_box(at, &text, 11.0, anchor);
                 c.rect(
-                    (area.0 as f32 - 2.0, area.1 as f32),
-                    ((area.2 - area.0) as f32 + 4.0, (area.3 - area.1) as f32),
+                    (bx0, by0),
+                    (bx1 - bx0, by1 - by0),
                     None,
                     Some(style::background()),
                 );
-                c.text(pt(at), &text, 11.0, style::ink(), anchor);
+                c.text(at, &text, 11.0, style::ink(), anchor);
             }
         }
     }
@@ -563,7 +392,7 @@ fn times(
         (None, _) => {
             c.text(
                 (t0, y - 7.0),
-                &format!("no interval test: mixed along {}", mixed_axes(w)),
+                &format!("no interval test: mixed along {}", w.mixed_axes()),
                 11.0,
                 style::ink(),
                 Anchor::Left,

@@ -12,193 +12,15 @@ use crate::accel::beam::{name, Beam, Piece, Segment};
 use crate::trace::RayKind;
 use glam::DVec2;
 
+mod view;
+pub use view::frame;
+use view::View;
+
 const W: f32 = 960.0;
 const H: f32 = 620.0;
 const MARGIN: f32 = 24.0;
 const TOP: f32 = 84.0;
 const BOTTOM: f32 = 64.0;
-
-/// Where the plane's points land on the canvas: a uniform scale, y up.
-struct View {
-    min: DVec2,
-    max: DVec2,
-    scale: f64,
-    origin: (f32, f32),
-}
-
-impl View {
-    /// The view of `frame` ([`frame`]'s corners), as large as the figure allows.
-    fn new([min, max]: [DVec2; 2]) -> View {
-        let (aw, ah) = ((W - 2.0 * MARGIN) as f64, (H - TOP - BOTTOM) as f64);
-        let scale = (aw / (max.x - min.x)).min(ah / (max.y - min.y));
-        // Centred in the area.
-        let used = ((max.x - min.x) * scale, (max.y - min.y) * scale);
-        let origin = (
-            MARGIN + ((aw - used.0) / 2.0) as f32,
-            TOP + ((ah - used.1) / 2.0) as f32 + used.1 as f32,
-        );
-        View {
-            min,
-            max,
-            scale,
-            origin,
-        }
-    }
-
-    fn at(&self, p: DVec2) -> (f32, f32) {
-        (
-            self.origin.0 + ((p.x - self.min.x) * self.scale) as f32,
-            self.origin.1 - ((p.y - self.min.y) * self.scale) as f32,
-        )
-    }
-
-    /// How far a ray that meets nothing is drawn: past every corner of the view.
-    fn far(&self) -> f64 {
-        (self.max - self.min).length() * 2.0
-    }
-
-    /// The part of the segment from `a` to `b` inside the view (Liang–Barsky).
-    fn clip_line(&self, a: DVec2, b: DVec2) -> Option<(DVec2, DVec2)> {
-        let d = b - a;
-        let (mut t0, mut t1) = (0.0f64, 1.0f64);
-        for axis in 0..2 {
-            for (edge, low) in [(self.min[axis], true), (self.max[axis], false)] {
-                // Inside: a + t·d on the view's side of this edge.
-                let (p, q) = if low {
-                    (-d[axis], a[axis] - edge)
-                } else {
-                    (d[axis], edge - a[axis])
-                };
-                if p == 0.0 {
-                    if q < 0.0 {
-                        return None;
-                    }
-                } else if p < 0.0 {
-                    t0 = t0.max(q / p);
-                } else {
-                    t1 = t1.min(q / p);
-                }
-            }
-        }
-        (t0 < t1).then(|| (a + t0 * d, a + t1 * d))
-    }
-
-    /// `poly` clipped to the view's rectangle (Sutherland–Hodgman, one edge at a time).
-    fn clip(&self, poly: Vec<DVec2>) -> Vec<DVec2> {
-        let edges: [(usize, f64, bool); 4] = [
-            (0, self.min.x, true),
-            (0, self.max.x, false),
-            (1, self.min.y, true),
-            (1, self.max.y, false),
-        ];
-        let mut out = poly;
-        for (axis, v, low) in edges {
-            let inside = |p: DVec2| if low { p[axis] >= v } else { p[axis] <= v };
-            let input = std::mem::take(&mut out);
-            for (i, &p) in input.iter().enumerate() {
-                let q = input[(i + 1) % input.len()];
-                if inside(p) {
-                    out.push(p);
-                }
-                if inside(p) != inside(q) {
-                    let t = (v - p[axis]) / (q[axis] - p[axis]);
-                    out.push(p + t * (q - p));
-                }
-            }
-            if out.is_empty() {
-                break;
-            }
-        }
-        out
-    }
-}
-
-/// How far past what the beam reaches the frame may grow to take in whole segments and the
-/// reflected beams, in multiples of the size of what it reaches.
-const REACH: f64 = 3.0;
-
-/// The part of the plane the figure shows, as its lower-left and upper-right corners: what
-/// the beam reaches (the eye and where its pieces meet segments), with a margin, grown to
-/// take in whatever lies within [`REACH`] times that size of it: whole segments, the
-/// reflected beams' pieces, and always the first reflections' mirrored eyes, the apexes the
-/// figure draws. A segment that reaches further is cut at the frame, so a mirror 10¹² long
-/// does not shrink the beam to a point.
-///
-/// The mirrored eyes always fit: a first reflection's apex lies twice the eye's distance
-/// from the mirror's line away from the eye, and that distance is at most the distance to
-/// where the beam meets the mirror, inside what the beam reaches.
-pub fn frame(beam: &Beam, segments: &[Segment], pieces: &[Piece]) -> [DVec2; 2] {
-    let mut points = vec![beam.apex];
-    points.extend(pieces.iter().filter_map(|p| p.hit).flat_map(|(_, h)| h));
-    let [lo, hi] = bounds(&points);
-    // A beam that meets nothing reaches no point but the eye: then the nearest segment sets
-    // the size, and the beam is drawn that far.
-    let nearest = segments
-        .iter()
-        .map(|s| distance(beam.apex, s))
-        .fold(f64::INFINITY, f64::min);
-    let mut size = (hi - lo).max_element();
-    if size == 0.0 {
-        size = if nearest.is_finite() && nearest > 0.0 {
-            nearest
-        } else {
-            1.0
-        };
-        points.extend([beam.from, beam.to].map(|d| beam.apex + size * d.normalize()));
-    }
-    let (near_lo, near_hi) = (lo - REACH * size, hi + REACH * size);
-    let within = |p: DVec2| p.cmpge(near_lo).all() && p.cmple(near_hi).all();
-    let mut further = Vec::new();
-    for p in pieces {
-        if let Some((r, sub)) = &p.reflected {
-            points.push(r.apex);
-            reached(sub, &mut further);
-        }
-    }
-    for s in segments {
-        further.extend([s.a, s.b]);
-    }
-    // A segment whole or not at all: half of one would look like all of it.
-    for pair in further.chunks(2) {
-        if pair.iter().all(|&p| within(p)) {
-            points.extend(pair);
-        }
-    }
-    let [mut lo, mut hi] = bounds(&points);
-    let short = size - (hi - lo).max_element();
-    if short > 0.0 {
-        lo -= DVec2::splat(short / 2.0);
-        hi += DVec2::splat(short / 2.0);
-    }
-    let pad = DVec2::splat((hi - lo).max_element() * 0.08);
-    [lo - pad, hi + pad]
-}
-
-/// The points where the pieces of reflected beams start and end, in pairs, deeper beams too.
-fn reached(pieces: &[Piece], out: &mut Vec<DVec2>) {
-    for p in pieces {
-        out.extend(p.near);
-        if let Some((_, h)) = p.hit {
-            out.extend(h);
-        }
-        if let Some((_, sub)) = &p.reflected {
-            reached(sub, out);
-        }
-    }
-}
-
-fn bounds(points: &[DVec2]) -> [DVec2; 2] {
-    points.iter().fold([points[0], points[0]], |[lo, hi], &p| {
-        [lo.min(p), hi.max(p)]
-    })
-}
-
-/// The distance from `p` to segment `s`.
-fn distance(p: DVec2, s: &Segment) -> f64 {
-    let e = s.b - s.a;
-    let u = ((p - s.a).dot(e) / e.length_squared()).clamp(0.0, 1.0);
-    (s.a + u * e - p).length()
-}
 
 /// How each depth of reflection is drawn: fills for pieces a segment sees and pieces that
 /// meet none, the edges' colour and width. Deeper is paler and thinner, so that the first
@@ -624,15 +446,8 @@ fn label(c: &mut Canvas, at: (f32, f32), text: &str, color: tiny_skia::Color, an
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::accel::beam::tests::seg;
     use crate::accel::beam::trace;
-
-    fn seg(a: (f64, f64), b: (f64, f64), mirror: bool) -> Segment {
-        Segment {
-            a: DVec2::new(a.0, a.1),
-            b: DVec2::new(b.0, b.1),
-            mirror,
-        }
-    }
 
     fn contains([lo, hi]: [DVec2; 2], p: DVec2) -> bool {
         p.cmpge(lo).all() && p.cmple(hi).all()
