@@ -15,7 +15,7 @@ fn main() -> ExitCode {
     let cli = rtlab::cli::Cli::parse(); // usage errors exit with status 2 from clap
     if let Err(v) = rtlab::accel::isa::simd_cap() {
         eprintln!(
-            "warning: RTLAB_SIMD={} names no SIMD level (base, avx2 or avx512): ignored, the widest this processor has is used",
+            "warning: RTLAB_SIMD={} names no SIMD level (base or portable, avx2, avx512): ignored, the widest this processor has is used",
             rtlab::error::printable(&v)
         );
     }

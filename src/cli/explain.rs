@@ -35,7 +35,8 @@ pub struct Args {
     #[arg(long, value_name = "camera|bounce", default_value = "camera")]
     pub diagram_plane: String,
     /// Draw the bundle of camera rays in which the render traces this pixel's sample (the
-    /// one --sample chose, else 0): the rays of that sample of its 4×4 block of pixels, over
+    /// one --sample chose, else 0): the rays of that sample of its 4×4 block of pixels (of
+    /// traced pixels under --subsample, within the pixel's 16×16 tile), over
     /// the first mesh's BVH (seen from above: the boxes it opened and the ones it culled),
     /// to this PNG. Refused where the render traces no such bundle.
     #[arg(long, value_name = "OUT.png")]

@@ -39,7 +39,7 @@ pub struct Args {
     /// the scene's subsampling, at most 64; 2: the scene's settings; k > 2: 4^(k-2) times its
     /// samples per pixel). Only pass K is traced. With --time-budget: stop after pass K at
     /// the latest.
-    #[arg(long, value_name = "K", allow_negative_numbers = true, value_parser = pass_number)]
+    #[arg(long, value_name = "K", allow_negative_numbers = true, value_parser = crate::sampling::progressive::parse_pass)]
     pub passes: Option<u32>,
     /// Progressive rendering for about this long: passes 1, 2, 3, ... until the time is
     /// spent (a pass after the first is cut off within a pixel's time; pass 1 always
@@ -47,18 +47,6 @@ pub struct Args {
     /// --passes K, K printed).
     #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
     pub time_budget: Option<f64>,
-}
-
-/// `--passes K`: a pass number, 1 or more (clap's own message for -1 named the range of a
-/// `u32`, 0 included).
-fn pass_number(s: &str) -> std::result::Result<u32, String> {
-    match s.trim().parse::<i64>() {
-        Ok(k) if k < 1 => Err("passes are numbered from 1".into()),
-        Ok(k) => {
-            u32::try_from(k).map_err(|_| format!("{k} is not a pass number (at most {})", u32::MAX))
-        }
-        Err(_) => Err(format!("\"{s}\" is not a pass number (1, 2, 3, ...)")),
-    }
 }
 
 /// The settings of progressive pass `k`, or an argument error saying why it cannot be made.

@@ -65,7 +65,7 @@ pub struct RenderArgs {
     pub no_depth_of_field: bool,
     /// Ray budget of one sample (default 10000): past it, the rest of the sample's ray tree
     /// is cut (explain shows `end: ray-budget`).
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = ray_budget)]
     pub max_rays: Option<u64>,
     /// The course's stage: its template ini switches and what its reference renderer does.
     /// intersect: directional lights only, no shadows/reflections/refractions/textures,
@@ -330,12 +330,6 @@ impl RenderArgs {
                 ));
             }
         }
-        if self.max_rays == Some(0) {
-            return Err(Error::arg(
-                "--max-rays",
-                "must be at least 1 (the camera ray): it is the most rays one sample may trace",
-            ));
-        }
         if let (Some(w), Some(h)) = (self.width, self.height) {
             check_size(w, h).map_err(|m| Error::arg("--width/--height", m))?;
         }
@@ -429,5 +423,20 @@ impl RenderArgs {
             }
         }
         Ok(())
+    }
+}
+
+/// `--max-rays N`: 1 (the camera ray) to 4,294,967,295, the range a scene's `max_rays` takes.
+fn ray_budget(s: &str) -> std::result::Result<u64, String> {
+    match s.trim().parse::<i128>() {
+        Ok(n) if n < 1 => Err(format!(
+            "{n}: must be at least 1 (the camera ray): it is the most rays one sample may trace"
+        )),
+        Ok(n) if n > u32::MAX as i128 => Err(format!(
+            "{n} is more than {}, the most a scene's max_rays takes",
+            u32::MAX
+        )),
+        Ok(n) => Ok(n as u64),
+        Err(_) => Err(format!("\"{s}\" is not a number of rays")),
     }
 }

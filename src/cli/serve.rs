@@ -128,9 +128,19 @@ pub fn option_infos() -> Vec<OptionInfo> {
                     .map(|p| p.get_name().to_string())
                     .collect();
             }
+            // `--mistake` takes a list (`a,b`) and repeats: free text, its names suggested.
+            let suggestions = if name == "mistake" {
+                crate::mistakes::Mistake::ALL
+                    .iter()
+                    .map(|m| m.name().to_string())
+                    .collect()
+            } else {
+                Vec::new()
+            };
             Some(OptionInfo {
                 help: a.get_help().map(|h| h.to_string()).unwrap_or_default(),
                 choices: if flag { Vec::new() } else { c },
+                suggestions,
                 name,
                 flag,
             })

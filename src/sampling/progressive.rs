@@ -57,6 +57,17 @@ pub fn pass_settings(
     Ok(s)
 }
 
+/// A pass number as typed (`--passes K`, the server's `pass=K`): 1 or more.
+pub fn parse_pass(s: &str) -> Result<u32, String> {
+    match s.trim().parse::<i64>() {
+        Ok(k) if k < 1 => Err("passes are numbered from 1".into()),
+        Ok(k) => {
+            u32::try_from(k).map_err(|_| format!("{k} is not a pass number (at most {})", u32::MAX))
+        }
+        Err(_) => Err(format!("\"{s}\" is not a pass number (1, 2, 3, ...)")),
+    }
+}
+
 /// Pass `k` of a render of `spp` samples per pixel (at pass 2) asks for more than any count
 /// the samplers take: said as the power it is, not as the number it overflows.
 fn too_many(k: u32, spp: u64) -> String {

@@ -358,12 +358,9 @@ async fn render(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Res
         let pass = q
             .own
             .get("pass")
-            .map(|p| match p.parse::<u32>() {
-                Ok(k) if k >= 1 => Ok(k),
-                _ => Err(Fail::from(Error::arg(
-                    "pass",
-                    format!("'{p}' is not a pass number (1, 2, 3, ...)"),
-                ))),
+            .map(|p| {
+                crate::sampling::progressive::parse_pass(p)
+                    .map_err(|m| Fail::from(Error::arg("pass", m)))
             })
             .transpose()?;
         let s = st.scene(&q.words)?;

@@ -30,6 +30,9 @@ pub struct OptionInfo {
     pub flag: bool,
     /// The values the page offers (empty: free text).
     pub choices: Vec<String>,
+    /// For free text that takes known names (`mistake`, a comma-separated list of them): the
+    /// names, which the page suggests as you type.
+    pub suggestions: Vec<String>,
 }
 
 /// Scenes kept loaded, by option words and file stamp.

@@ -222,4 +222,25 @@ fn an_unknown_simd_level_is_warned_of() {
         "{}",
         stderr(&run)
     );
+    // The name `--stats` gives the base level, in any case, is a level.
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_rtlab"))
+        .args([
+            "render",
+            "scenes/spheres.json",
+            "--width",
+            "16",
+            "--height",
+            "12",
+            "--stats",
+            "json",
+            "-o",
+        ])
+        .arg(&o)
+        .current_dir(root())
+        .env("RTLAB_SIMD", "PORTABLE")
+        .output()
+        .unwrap();
+    assert!(run.status.success());
+    assert!(!stderr(&run).contains("warning"), "{}", stderr(&run));
+    assert!(String::from_utf8_lossy(&run.stdout).contains("\"simd\": \"portable\""));
 }

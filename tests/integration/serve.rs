@@ -364,6 +364,15 @@ fn scene_steps_options_and_events() {
         let c = o["choices"].as_array().unwrap().iter();
         c.map(|c| c.as_str().unwrap().to_string()).collect()
     };
+    let mistake = v["render"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|o| o["name"] == "mistake")
+        .unwrap();
+    let suggested = mistake["suggestions"].as_array().unwrap();
+    assert_eq!(suggested.len(), rtlab::mistakes::Mistake::ALL.len());
+    assert!(suggested.iter().any(|m| m == "shadow-acne"), "{mistake}");
     for (name, expected) in [
         ("traversal", &["single", "bundle"][..]),
         ("accel", &["linear", "bvh"]),

@@ -115,15 +115,18 @@ pub enum Level {
 pub fn simd_cap() -> Result<Option<Level>, String> {
     match std::env::var("RTLAB_SIMD") {
         Err(std::env::VarError::NotPresent) => Ok(None),
-        Ok(v) if v == "base" => Ok(Some(Level::Base)),
-        Ok(v) if v == "avx2" => Ok(Some(Level::Avx2)),
-        Ok(v) if v == "avx512" => Ok(Some(Level::Avx512)),
-        Ok(v) => Err(v),
+        // `portable` is what `--stats` calls the base level.
+        Ok(v) => match v.to_ascii_lowercase().as_str() {
+            "base" | "portable" => Ok(Some(Level::Base)),
+            "avx2" => Ok(Some(Level::Avx2)),
+            "avx512" => Ok(Some(Level::Avx512)),
+            _ => Err(v),
+        },
         Err(std::env::VarError::NotUnicode(v)) => Err(v.to_string_lossy().into_owned()),
     }
 }
 
-/// The widest [`Level`] this processor supports, detected once. `RTLAB_SIMD=base|avx2|avx512`
+/// The widest [`Level`] this processor supports, detected once. `RTLAB_SIMD=base|portable|avx2|avx512`
 /// caps it (for comparing the levels; any other value is ignored: [`simd_cap`]).
 pub fn level() -> Level {
     static LEVEL: std::sync::OnceLock<Level> = std::sync::OnceLock::new();

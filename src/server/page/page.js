@@ -74,6 +74,10 @@ async function buildControls() {
     } else if (o.choices.length) {
       input = el("select", { "data-option": o.name }, el("option", { value: "" }, "(scene's)"),
         ...o.choices.map((c) => el("option", { value: c }, c)));
+    } else if (o.suggestions && o.suggestions.length) {
+      // Free text (a list such as "a,b"), the known names offered as you type.
+      input = el("input", { type: "text", "data-option": o.name, placeholder: "none", list: "list-" + o.name });
+      target.append(el("datalist", { id: "list-" + o.name }, ...o.suggestions.map((c) => el("option", { value: c }))));
     } else {
       input = el("input", { type: "text", "data-option": o.name, placeholder: "scene's" });
     }
