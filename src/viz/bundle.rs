@@ -5,7 +5,7 @@
 
 use super::canvas::{Anchor, Canvas};
 use super::style;
-use crate::accel::{BundleWork, BUNDLE};
+use crate::accel::{BundleWork, BUNDLE, FEW};
 use crate::math::Ray;
 use crate::sampling::bundles::{bundle_of, NoBundle};
 use crate::scene::Scene;
@@ -89,32 +89,132 @@ pub fn draw(scene: &Scene, x: u32, y: u32, k: u32) -> Result<Canvas, String> {
             .filter(|&&(node, _, mask)| depth[node] == level && (mask != 0) == entered)
             .count()
     };
+    let hit_count = hits.iter().flatten().count();
+
+    // The header, top down: the title and the line under it (each wrapped to the width when
+    // it does not fit), then the legend's two rows.
+    let width = W - 2.0 * SIDE_MARGIN;
+    let head = format!(
+        "A bundle of {n} camera {} walking the mesh's BVH, seen from above",
+        plural(n, "ray", "rays")
+    );
+    let of = format!(
+        "sample {} of {}",
+        bundle.sample,
+        pixels_caption(&bundle.pixels)
+    );
+    let title = match format!("{head}: {of}") {
+        one if Canvas::text_width(&one, TITLE) <= width => vec![one],
+        _ => [
+            wrap(&format!("{head}:"), TITLE, width),
+            wrap(&of, TITLE, width),
+        ]
+        .concat(),
+    };
+    let subsampled = match scene.render.subsample {
+        0 | 1 => String::new(),
+        k => format!(" (--subsample {k}: traced pixels only)"),
+    };
+    let hit_text = match (n, hit_count) {
+        (1, 1) => "the ray hits (red dot)".to_string(),
+        (1, _) => "the ray hits nothing".to_string(),
+        (_, 1) => format!("1 of {n} rays hits (red dot)"),
+        _ => format!("{hit_count} of {n} rays hit (red dots)"),
+    };
+    let sub = wrap(
+        &format!(
+            "object-space x (right) and z (down); the {} from the camera ({}){subsampled}; {hit_text}",
+            plural(n, "ray comes", "rays come"),
+            coming_from(&rays)
+        ),
+        SUB,
+        width,
+    );
+    let sub_y = 22.0 + TITLE_STEP * (title.len() - 1) as f32 + 22.0;
+    let ly = sub_y + SUB_STEP * (sub.len() - 1) as f32 + 26.0;
+    let top = ly + 36.0;
+
+    // One heading per panel, and under it, where the walk did something the boxes do not
+    // show, a note: boxes entered above that the bundle did not open (leaves, subtrees left
+    // to the single-ray walk), or a root the bundle never opened.
+    let panel_w = (W - 2.0 * SIDE_MARGIN - GAP) / 2.0;
+    let root_opened = tested.iter().any(|t| t.0 == 0);
+    let headings: Vec<(String, Vec<String>)> = (0..LEVELS)
+        .map(|level| {
+            let (entered, culled) = (counts(level, true), counts(level, false));
+            let (heading, note) = if level == 0 {
+                let children = if nodes.is_empty() {
+                    0
+                } else {
+                    (0..crate::accel::WIDTH)
+                        .filter(|&lane| !nodes[0].is_empty(lane))
+                        .count()
+                };
+                let whose = match children {
+                    1 => "1. The root's only child".to_string(),
+                    k => format!("1. The root's {k} children"),
+                };
+                if root_opened || nodes.is_empty() {
+                    (format!("{whose}: {entered} entered, {culled} culled"), None)
+                } else {
+                    (
+                        format!("{whose}: not tested by the bundle"),
+                        Some(
+                            "The bundle never opened the root: its rays' directions differ \
+                             in sign, so each ray walked the tree alone."
+                                .to_string(),
+                        ),
+                    )
+                }
+            } else {
+                let above = unopened(&tested, &depth, nodes, level - 1);
+                let heading = if entered + culled > 0 {
+                    format!(
+                        "{}. One level down, in the boxes opened: {entered} entered, {culled} culled",
+                        level + 1
+                    )
+                } else if !root_opened {
+                    format!("{}. One level down: the rays walked alone", level + 1)
+                } else if above.entered == 0 {
+                    format!(
+                        "{}. One level down: nothing to test (no ray entered a box above)",
+                        level + 1
+                    )
+                } else {
+                    format!("{}. One level down: no box opened", level + 1)
+                };
+                (heading, above.note())
+            };
+            let note = note.map_or(Vec::new(), |t| wrap(&t, NOTE, panel_w));
+            (heading, note)
+        })
+        .collect();
+    let notes = headings.iter().map(|h| h.1.len()).max().unwrap_or(0);
+    let drop = PANEL_DROP + NOTE_STEP * notes as f32;
 
     let mut c = Canvas::new(W as u32, H as u32, style::background());
     // One panel per level: its frame, the boxes the bundle tested there, the root's outline
     // around them, and the rays, every one clipped to the frame.
-    let panel_w = (W - 2.0 * SIDE_MARGIN - GAP) / 2.0;
-    for level in 0..LEVELS {
+    for (level, (heading, note)) in headings.iter().enumerate() {
         let x0 = SIDE_MARGIN + level as f32 * (panel_w + GAP);
-        let view = Panel::fit(
-            &b,
-            (x0, TOP + PANEL_DROP),
-            (panel_w, H - TOP - PANEL_DROP - BOTTOM),
-        );
+        let view = Panel::fit(&b, (x0, top + drop), (panel_w, H - top - drop - BOTTOM));
         c.rect(view.at, view.size, Some((style::grid(), 1.0)), None);
-        let (entered, culled) = (counts(level, true), counts(level, false));
-        let heading = match level {
-            0 => format!("1. The root's four children: {entered} entered, {culled} culled"),
-            _ if entered + culled == 0 => format!(
-                "{}. One level down: nothing to test (no ray entered a box above)",
-                level + 1
-            ),
-            _ => format!(
-                "{}. One level down, in the boxes entered: {entered} entered, {culled} culled",
-                level + 1
-            ),
-        };
-        c.text((x0, TOP + 8.0), &heading, 13.0, style::ink(), Anchor::Left);
+        c.text(
+            (x0, top + 8.0),
+            heading,
+            HEADING,
+            style::ink(),
+            Anchor::Left,
+        );
+        for (i, line) in note.iter().enumerate() {
+            c.text(
+                (x0, top + 8.0 + NOTE_STEP * (i + 1) as f32),
+                line,
+                NOTE,
+                style::ink(),
+                Anchor::Left,
+            );
+        }
         view.outline(&mut c, &b, style::muted(), 1.2, false);
         let (bx, by) = view.map(DVec3::new(b.min.x, 0.0, b.min.z));
         c.text(
@@ -136,33 +236,15 @@ pub fn draw(scene: &Scene, x: u32, y: u32, k: u32) -> Result<Canvas, String> {
     }
 
     // Title, legend and footers.
-    let hit_count = hits.iter().flatten().count();
-    c.text(
-        (SIDE_MARGIN, 22.0),
-        &format!(
-            "A bundle of {n} camera rays walking the mesh's BVH, seen from above: sample {} of {}",
-            bundle.sample,
-            pixels_caption(&bundle.pixels)
-        ),
-        15.0,
-        style::ink(),
-        Anchor::Left,
-    );
-    let subsampled = match scene.render.subsample {
-        0 | 1 => String::new(),
-        k => format!(" (--subsample {k}: only the block's traced pixels)"),
-    };
-    c.text(
-        (SIDE_MARGIN, 44.0),
-        &format!(
-            "object-space x (right) and z (down); the rays come from the camera ({}){subsampled}; {hit_count} of {n} rays hit (red dots)",
-            coming_from(&rays)
-        ),
-        12.0,
-        style::ink(),
-        Anchor::Left,
-    );
-    let (lx, ly) = (SIDE_MARGIN, 70.0);
+    for (i, line) in title.iter().enumerate() {
+        let y = 22.0 + TITLE_STEP * i as f32;
+        c.text((SIDE_MARGIN, y), line, TITLE, style::ink(), Anchor::Left);
+    }
+    for (i, line) in sub.iter().enumerate() {
+        let y = sub_y + SUB_STEP * i as f32;
+        c.text((SIDE_MARGIN, y), line, SUB, style::ink(), Anchor::Left);
+    }
+    let lx = SIDE_MARGIN;
     c.rect(
         (lx, ly - 6.0),
         (22.0, 12.0),
@@ -197,13 +279,15 @@ pub fn draw(scene: &Scene, x: u32, y: u32, k: u32) -> Result<Canvas, String> {
         style::ink(),
         Anchor::Left,
     );
+    let slab_tests = work.ray_nodes.iter().sum::<u32>() as usize;
     c.text(
         (SIDE_MARGIN, H - 14.0),
         &format!(
-            "The whole walk: the bundle opened {} node{}, each once for all its rays; its rays made {} slab tests (a ray against a node's four boxes), in it or alone.",
+            "The whole walk: the bundle opened {} {}, each once for all its rays; its {} made {slab_tests} slab {} (a ray against a node's four boxes), in it or alone.",
             work.opened,
-            if work.opened == 1 { "" } else { "s" },
-            work.ray_nodes.iter().sum::<u32>()
+            plural(work.opened as usize, "node", "nodes"),
+            plural(n, "ray", "rays"),
+            plural(slab_tests, "test", "tests"),
         ),
         11.0,
         style::ink(),
@@ -212,17 +296,144 @@ pub fn draw(scene: &Scene, x: u32, y: u32, k: u32) -> Result<Canvas, String> {
     Ok(c)
 }
 
+/// `one` for a count of 1, `many` for any other.
+fn plural<'a>(count: usize, one: &'a str, many: &'a str) -> &'a str {
+    if count == 1 {
+        one
+    } else {
+        many
+    }
+}
+
+/// `text` in lines no wider than `width` at `size`, broken at spaces (a word wider than
+/// the width has a line of its own).
+fn wrap(text: &str, size: f32, width: f32) -> Vec<String> {
+    let mut lines: Vec<String> = Vec::new();
+    for word in text.split(' ') {
+        match lines.last_mut() {
+            Some(line) if Canvas::text_width(&format!("{line} {word}"), size) <= width => {
+                line.push(' ');
+                line.push_str(word);
+            }
+            _ => lines.push(word.to_string()),
+        }
+    }
+    lines
+}
+
+/// The boxes some ray entered at one level of the walk, and what became of those the bundle
+/// did not open: read off the walk's record (`tested`: node, lane, the rays that entered)
+/// and the tree (a leaf lane holds primitives; an opened node was recorded).
+struct Unopened {
+    entered: usize,
+    /// Leaves: their primitives were tested, nothing below them to open.
+    leaves: usize,
+    /// Subtrees entered by no more than [`FEW`] rays: left to the single-ray walk.
+    alone: usize,
+    /// Subtrees more rays entered, never opened: by the time the bundle came to them its
+    /// rays had found nearer hits (any few still left went on alone).
+    passed: usize,
+}
+
+fn unopened(
+    tested: &[(usize, usize, u32)],
+    depth: &[usize],
+    nodes: &[crate::accel::Node],
+    level: usize,
+) -> Unopened {
+    let mut u = Unopened {
+        entered: 0,
+        leaves: 0,
+        alone: 0,
+        passed: 0,
+    };
+    for &(node, lane, mask) in tested {
+        if depth[node] != level || mask == 0 {
+            continue;
+        }
+        u.entered += 1;
+        let child = nodes[node].child[lane] as usize;
+        if nodes[node].count[lane] > 0 {
+            u.leaves += 1;
+        } else if !tested.iter().any(|t| t.0 == child) {
+            if mask.count_ones() <= FEW {
+                u.alone += 1;
+            } else {
+                u.passed += 1;
+            }
+        }
+    }
+    u
+}
+
+impl Unopened {
+    /// What became of the boxes entered above that the bundle did not open, for a panel's
+    /// note (`None`: it opened them all).
+    fn note(&self) -> Option<String> {
+        let subject = |k: usize| match (k == self.entered, k) {
+            (true, 1) => "the box entered".to_string(),
+            (true, 2) => "both boxes entered".to_string(),
+            (true, k) => format!("the {k} boxes entered"),
+            (false, k) => format!("{k} of the boxes entered"),
+        };
+        let mut parts = Vec::new();
+        if self.leaves > 0 {
+            let k = self.leaves;
+            parts.push(format!(
+                "{} {}: {} triangles are tested, nothing further to open",
+                subject(k),
+                plural(k, "is a leaf", "are leaves"),
+                plural(k, "its", "their")
+            ));
+        }
+        if self.alone > 0 {
+            let k = self.alone;
+            parts.push(format!(
+                "{} had two or fewer rays{}: those went on alone (the single-ray walk)",
+                subject(k),
+                plural(k, "", " each")
+            ));
+        }
+        if self.passed > 0 {
+            let k = self.passed;
+            parts.push(format!(
+                "{} {} not opened: by then {} rays had found nearer hits (or two or fewer \
+                 were left, and went on alone)",
+                subject(k),
+                plural(k, "was", "were"),
+                plural(k, "its", "their")
+            ));
+        }
+        if parts.is_empty() {
+            return None;
+        }
+        let mut text = parts.join("; ");
+        text[..1].make_ascii_uppercase();
+        text.push('.');
+        Some(text)
+    }
+}
+
 /// Figure layout: margins, the gap between the panels, the heights above and below them.
 const SIDE_MARGIN: f32 = 24.0;
 const GAP: f32 = 28.0;
-const TOP: f32 = 106.0;
 const BOTTOM: f32 = 52.0;
-/// From the top of a panel's heading to the top of its frame.
+/// From the top of a panel's heading to the top of its frame (and one more step per line
+/// of the panels' notes).
 const PANEL_DROP: f32 = 22.0;
+/// Text sizes, and the step between the lines of one wrapped text.
+const TITLE: f32 = 15.0;
+const TITLE_STEP: f32 = 20.0;
+const SUB: f32 = 12.0;
+const SUB_STEP: f32 = 16.0;
+const HEADING: f32 = 13.0;
+const NOTE: f32 = 11.0;
+const NOTE_STEP: f32 = 15.0;
 
 /// The bundle's pixels for the title: "pixels x 8–10, y 4–7" for a block of whole rows and
-/// columns (a range where they are consecutive, "320/322" where `--subsample` skips some),
-/// "N pixels within x …, y …" when they do not fill their rows and columns.
+/// columns, "pixels x 320–332 and y 240–252, every 4th" where `--subsample` skips some (a
+/// range wherever they are evenly spaced, "320/322/327" where not), "N pixels within x …,
+/// y …" when they do not fill their rows and columns.
 fn pixels_caption(pixels: &[(u32, u32)]) -> String {
     let values = |of: fn(&(u32, u32)) -> u32| {
         let mut v: Vec<u32> = pixels.iter().map(of).collect();
@@ -231,18 +442,46 @@ fn pixels_caption(pixels: &[(u32, u32)]) -> String {
         v
     };
     let (xs, ys) = (values(|p| p.0), values(|p| p.1));
-    let list = |v: &[u32]| match v {
-        [] => String::new(),
-        [a] => a.to_string(),
-        [a, .., z] if z - a + 1 == v.len() as u32 => format!("{a}–{z}"),
+    // The spacing of evenly spaced values (at least two of them).
+    let step = |v: &[u32]| match v {
+        [a, b, ..] if v.windows(2).all(|w| w[1] - w[0] == b - a) => Some(b - a),
+        _ => None,
+    };
+    let (sx, sy) = (step(&xs), step(&ys));
+    let common = match (sx, sy) {
+        (Some(a), Some(b)) if a == b && a > 1 => Some(a),
+        _ => None,
+    };
+    let list = |v: &[u32], step: Option<u32>| match (v, step) {
+        ([], _) => String::new(),
+        ([a], _) => a.to_string(),
+        ([a, .., z], Some(1)) => format!("{a}–{z}"),
+        ([a, .., z], Some(_)) if common.is_some() => format!("{a}–{z}"),
+        ([a, .., z], Some(d)) => format!("{a}–{z} every {}", ordinal(d)),
         _ => v.iter().map(u32::to_string).collect::<Vec<_>>().join("/"),
     };
-    let (x, y) = (list(&xs), list(&ys));
+    let (x, y) = (list(&xs, sx), list(&ys, sy));
+    let within = match common {
+        Some(d) => format!("x {x} and y {y}, every {}", ordinal(d)),
+        None => format!("x {x}, y {y}"),
+    };
     match pixels.len() {
         1 => format!("pixel ({x}, {y})"),
-        n if n == xs.len() * ys.len() => format!("pixels x {x}, y {y}"),
-        n => format!("{n} pixels within x {x}, y {y}"),
+        n if n == xs.len() * ys.len() => format!("pixels {within}"),
+        n => format!("{n} pixels within {within}"),
     }
+}
+
+/// 1st, 2nd, 3rd, 4th, …, 11th, 12th, 13th, …, 21st.
+fn ordinal(n: u32) -> String {
+    let suffix = match (n % 10, n % 100) {
+        (_, 11..=13) => "th",
+        (1, _) => "st",
+        (2, _) => "nd",
+        (3, _) => "rd",
+        _ => "th",
+    };
+    format!("{n}{suffix}")
 }
 
 /// Which side of the figure the rays come in from (object-space x right, z down): the

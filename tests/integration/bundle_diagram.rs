@@ -137,12 +137,204 @@ fn a_clipped_block_is_captioned_by_its_pixels_and_drawn_inside_its_panels() {
         .join("\n");
     assert!(
         all.contains("A bundle of 16 camera rays")
-            && all.contains("sample 0 of pixels x 320/322/324/326, y 240/242/244/246"),
+            && all.contains("sample 0 of pixels x 320–326 and y 240–246, every 2nd"),
         "{all}"
     );
     // The teapot at its own size: the rays come from below the mesh, clipped to the frame.
     let scene = scene_teapot();
     in_frames(&rtlab::viz::bundle::draw(&scene, 320, 240, 0).unwrap());
+}
+
+/// The panels' headings say what the walk did at each level: the root's real number of
+/// children, and, where the bundle opened no box one level down, why: the boxes entered were
+/// leaves (the prism's root holds two leaves), or two or fewer rays entered them and went on
+/// alone (a 1×1 image's single ray); "nothing to test" only where no ray entered a box.
+#[test]
+fn the_headings_say_what_the_walk_did() {
+    let texts = |c: &rtlab::viz::canvas::Canvas| c.texts().join("\n");
+    let root_children = |s: &rtlab::scene::Scene| {
+        let mesh = s
+            .objects
+            .iter()
+            .find_map(|o| match &o.shape {
+                rtlab::shapes::Shape::Mesh(m) => Some(m),
+                _ => None,
+            })
+            .unwrap();
+        let root = &mesh.bvh.nodes[0];
+        (0..rtlab::accel::WIDTH)
+            .filter(|&l| root.planes[0][0][l] <= root.planes[1][0][l])
+            .count()
+    };
+
+    // The prism: a root of two leaves, one entered.
+    let prism = scene("scenes/prism.json");
+    assert_eq!(root_children(&prism), 2);
+    let all = texts(&rtlab::viz::bundle::draw(&prism, 100, 100, 3).unwrap());
+    assert!(
+        all.contains("1. The root's 2 children: 1 entered, 1 culled"),
+        "{all}"
+    );
+    assert!(!all.contains("four children"), "{all}");
+    assert!(
+        all.contains("2. One level down: no box opened")
+            && all.contains("The box entered is a leaf: its triangles are tested"),
+        "{all}"
+    );
+    assert!(!all.contains("nothing to test"), "{all}");
+
+    // A 1×1 image: one ray, which enters two of the root's four children and walks them
+    // alone.
+    let mut one = scene_teapot();
+    one.camera.update_size(1, 1);
+    assert_eq!(root_children(&one), 4);
+    let all = texts(&rtlab::viz::bundle::draw(&one, 0, 0, 0).unwrap());
+    assert!(
+        all.contains("1. The root's 4 children: 2 entered, 2 culled"),
+        "{all}"
+    );
+    assert!(
+        all.contains("2. One level down: no box opened")
+            && all.contains("Both boxes entered had two or fewer rays each: those went on alone"),
+        "{all}"
+    );
+    assert!(!all.contains("nothing to test"), "{all}");
+
+    // A bundle whose directions change sign (the prism's image 66 wide: its block of columns
+    // 32–35 straddles the middle) never opens the root: each ray walks alone from it.
+    let mut mixed = scene("scenes/prism.json");
+    mixed.camera.update_size(66, 50);
+    let all = texts(&rtlab::viz::bundle::draw(&mixed, 32, 24, 0).unwrap());
+    assert!(
+        all.contains("1. The root's 2 children: not tested by the bundle")
+            && all.contains("The bundle never opened the root")
+            && all.contains("2. One level down: the rays walked alone"),
+        "{all}"
+    );
+    assert!(!all.contains("nothing to test"), "{all}");
+
+    // The teapot's centre: the bundle opens one of the two children entered; the other it
+    // never reaches (its rays hit nearer), and the heading says so.
+    let all = texts(&rtlab::viz::bundle::draw(&scene_teapot(), 320, 240, 0).unwrap());
+    assert!(
+        all.contains("2. One level down, in the boxes opened: ")
+            && !all.contains("nothing to test"),
+        "{all}"
+    );
+}
+
+/// Singular for one: a 1×1 image's bundle is "1 camera ray", and its hit "the ray hits";
+/// a bundle of sixteen keeps its plurals.
+#[test]
+fn one_ray_is_singular() {
+    let mut one = scene_teapot();
+    one.camera.update_size(1, 1);
+    let all = rtlab::viz::bundle::draw(&one, 0, 0, 0)
+        .unwrap()
+        .texts()
+        .join("\n");
+    assert!(
+        all.contains("A bundle of 1 camera ray walking")
+            && all.contains("the ray comes from the camera")
+            && all.contains("the ray hits (red dot)")
+            && all.contains("its ray made 4 slab tests"),
+        "{all}"
+    );
+    assert!(
+        !all.contains("1 camera rays") && !all.contains("of 1 rays"),
+        "{all}"
+    );
+    let all = rtlab::viz::bundle::draw(&scene_teapot(), 320, 240, 0)
+        .unwrap()
+        .texts()
+        .join("\n");
+    assert!(
+        all.contains("A bundle of 16 camera rays walking")
+            && all.contains("16 of 16 rays hit (red dots)"),
+        "{all}"
+    );
+}
+
+/// Every text of the figure lies within the canvas (its width measured as drawn) and no two
+/// overlap, for subsampled bundles whose pixels span a wide lattice: the title names the
+/// lattice ("x 320–332 and y 240–252, every 4th"), and wraps where even that is too long.
+#[test]
+fn the_title_fits_the_canvas() {
+    for (size, k, at, caption) in [
+        (
+            640,
+            4,
+            (320, 240),
+            "pixels x 320–332 and y 240–252, every 4th",
+        ),
+        (
+            640,
+            2,
+            (320, 240),
+            "pixels x 320–326 and y 240–246, every 2nd",
+        ),
+        (
+            10000,
+            3,
+            (4992, 4992),
+            "pixels x 4992–5001 and y 4992–5001, every 3rd",
+        ),
+    ] {
+        let mut s = scene_teapot();
+        if size != 640 {
+            s.camera.update_size(size, size);
+        }
+        s.render.subsample = k;
+        let c = rtlab::viz::bundle::draw(&s, at.0, at.1, 0).unwrap();
+        let all = c.texts().join("\n");
+        assert!(all.contains(caption), "--subsample {k}: {all}");
+        assert!(!all.contains('/'), "--subsample {k}: {all}");
+        texts_fit(&c);
+        in_frames(&c);
+    }
+}
+
+/// Every text of `c` (left-anchored, as the figure draws them) ends inside the canvas, and no
+/// two texts' boxes (their measured width, their size tall) overlap.
+fn texts_fit(c: &rtlab::viz::canvas::Canvas) {
+    use rtlab::viz::canvas::{Anchor, Canvas};
+    let boxes: Vec<(&str, [f32; 4])> = c
+        .display
+        .iter()
+        .filter_map(|p| match p {
+            Prim::Text {
+                at,
+                text,
+                size,
+                anchor: Anchor::Left,
+                ..
+            } => Some((
+                text.as_str(),
+                [
+                    at[0],
+                    at[1] - size / 2.0,
+                    at[0] + Canvas::text_width(text, *size),
+                    at[1] + size / 2.0,
+                ],
+            )),
+            _ => None,
+        })
+        .collect();
+    assert!(boxes.len() > 5);
+    for (text, b) in &boxes {
+        assert!(
+            b[0] >= 0.0 && b[1] >= 0.0 && b[2] <= c.width() && b[3] <= c.height(),
+            "{text:?} leaves the {}×{} canvas: {b:?}",
+            c.width(),
+            c.height()
+        );
+    }
+    for (i, (t, a)) in boxes.iter().enumerate() {
+        for (u, b) in &boxes[i + 1..] {
+            let apart = a[2] <= b[0] || b[2] <= a[0] || a[3] <= b[1] || b[3] <= a[1];
+            assert!(apart, "{t:?} {a:?} overlaps {u:?} {b:?}");
+        }
+    }
 }
 
 fn scene_teapot() -> rtlab::scene::Scene {
