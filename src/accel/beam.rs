@@ -77,7 +77,8 @@ pub fn name(segments: &[Segment], i: usize) -> String {
 /// Why a beam cannot be traced (the face says which argument).
 #[derive(Debug, Clone, PartialEq)]
 pub enum Problem {
-    /// The beam is empty or not less than half a turn wide.
+    /// The beam is no wider than 1e-7°, or not narrower than [`WIDEST`] (its width in
+    /// degrees).
     Width(f64),
     /// Segment `i` has no length, or is too short to tell from a point where it lies
     /// ([`min_length`]).
@@ -92,8 +93,29 @@ impl Problem {
     /// The message, naming segments as the user knows them ([`name`]).
     pub fn message(&self, segments: &[Segment]) -> String {
         match *self {
+            // Rounding keeps order, so a width refused reads as breaking the rule as well.
+            Problem::Width(d) if d > 90.0 => {
+                // Seven decimals show the limit; as many more as it takes for a width under
+                // 180° to read under 180°, and one past the limit to read past it.
+                let k = (7..=15)
+                    .find(|&k| {
+                        let v = fixed(d, k).parse::<f64>().unwrap_or(d);
+                        (d >= 180.0 || v < 180.0) && (d == WIDEST || v != WIDEST)
+                    })
+                    .unwrap_or(15);
+                format!(
+                    "the two directions are {}° apart: a beam must be less than {}° wide \
+                     (180° less {}°, so that its two edges are not one line)",
+                    fixed(d, k),
+                    fixed(WIDEST, 7),
+                    tiny(SLACK)
+                )
+            }
             Problem::Width(d) => format!(
-                "the two directions are {d:.3}° apart: a beam must be more than 0° and less than 180° wide"
+                "the two directions are {}° apart: a beam must be more than {}° wide \
+                 (so that its two edges are two directions)",
+                tiny(d),
+                tiny(SLACK)
             ),
             Problem::Empty(i) => {
                 let s = &segments[i];
@@ -193,13 +215,30 @@ fn cross(p: &Segment, q: &Segment) -> bool {
     a * b < 0.0 && c * d < 0.0
 }
 
-/// The width of `beam` in degrees, or the problem with it.
-pub fn width(beam: &Beam) -> Result<f64, Problem> {
-    let span = angle(beam.from, beam.to).abs();
-    if !(span > 1e-9 && span < std::f64::consts::PI - 1e-9) {
-        return Err(Problem::Width(span.to_degrees()));
+/// How much wider than nothing and narrower than half a turn a beam must be, in degrees: its
+/// two edges are two directions, and not one line.
+const SLACK: f64 = 1e-7;
+
+/// The widest a beam may be, in degrees: 179.9999999 (1e-7° short of half a turn).
+pub const WIDEST: f64 = 180.0 - SLACK;
+
+/// `x` with `k` decimals, trailing zeros dropped.
+fn fixed(x: f64, k: usize) -> String {
+    let s = format!("{x:.k$}");
+    match s.contains('.') {
+        true => s.trim_end_matches('0').trim_end_matches('.').to_string(),
+        false => s,
     }
-    Ok(span.to_degrees())
+}
+
+/// The width of `beam` in degrees, or the problem with it: more than 1e-7°, and less than
+/// [`WIDEST`].
+pub fn width(beam: &Beam) -> Result<f64, Problem> {
+    let degrees = angle(beam.from, beam.to).abs().to_degrees();
+    if !(degrees > SLACK && degrees < WIDEST) {
+        return Err(Problem::Width(degrees));
+    }
+    Ok(degrees)
 }
 
 /// Clips `beam` against `segments`, nearest first, and each mirror's piece's reflection in
@@ -460,6 +499,32 @@ pub(crate) mod tests {
             check(DVec2::ZERO, &[seg((1.0, 1.0), (1.0, 1.0), false)]),
             Err(Problem::Empty(0))
         );
+    }
+
+    #[test]
+    fn a_width_refused_visibly_breaks_the_rule_it_is_told() {
+        let width_of =
+            |b: (f64, f64)| width(&Beam::between(DVec2::ZERO, DVec2::X, DVec2::new(b.0, b.1)));
+        let message = |b: (f64, f64)| width_of(b).unwrap_err().message(&[]);
+        // 179.99999994°: less than 180°, but not less than 179.9999999°.
+        assert_eq!(
+            message((-1.0, 1e-9)),
+            "the two directions are 179.99999994° apart: a beam must be less than 179.9999999° \
+             wide (180° less 1.0e-7°, so that its two edges are not one line)"
+        );
+        assert!(message((-1.0, 0.0)).starts_with(
+            "the two directions are 180° apart: a beam must be less than 179.9999999° wide"
+        ));
+        // 5.7e-9°: more than 0°, but not more than 1.0e-7°.
+        assert_eq!(
+            message((1.0, 1e-10)),
+            "the two directions are 5.7e-9° apart: a beam must be more than 1.0e-7° wide \
+             (so that its two edges are two directions)"
+        );
+        assert!(message((2.0, 0.0)).starts_with("the two directions are 0° apart"));
+        // Past the limits, a beam is traced.
+        assert!(width_of((-1.0, 2e-9)).unwrap() < WIDEST);
+        assert!(width_of((1.0, 2e-9)).unwrap() > SLACK);
     }
 
     #[test]

@@ -231,11 +231,11 @@ fn points(a: DVec2, b: DVec2) -> (String, String) {
     apart(a, b, |a, b| a != b)
 }
 
-/// A width in degrees: four decimals, or as many more as it takes for a width under 180° to
-/// read under 180° (a beam must be less than half a turn wide).
+/// A width in degrees: four decimals, or as many more as it takes for a width under the
+/// widest a beam may be ([`beam::WIDEST`], 179.9999999°) to read under it.
 fn degrees(d: f64) -> String {
     let decimals = (4..=15)
-        .find(|&k| d >= 180.0 || number(d, k).parse::<f64>().is_ok_and(|v| v < 180.0))
+        .find(|&k| d >= beam::WIDEST || number(d, k).parse::<f64>().is_ok_and(|v| v < beam::WIDEST))
         .unwrap_or(15);
     number(d, decimals)
 }
@@ -348,9 +348,10 @@ mod tests {
     use super::*;
 
     #[test]
-    fn a_width_under_half_a_turn_reads_under_180() {
+    fn a_width_a_beam_may_have_reads_under_the_widest() {
         assert_eq!(degrees(83.39524), "83.3952");
-        assert_eq!(degrees(179.99999994), "179.9999999");
+        assert_eq!(degrees(179.99999988), "179.99999988");
+        assert_eq!(degrees(179.999999), "179.999999");
         assert_eq!(degrees(179.99), "179.99");
         assert_eq!(degrees(2.9e-5), "2.9e-5");
     }

@@ -64,9 +64,9 @@ fn a_piece_that_meets_nothing_says_so() {
 
 #[test]
 fn widths_and_directions_print_enough_digits_to_be_told_apart() {
-    // 179.99999994° is less than half a turn, and must read so.
-    let text = run(&["--from", "1,0", "--to", "-1,1.1e-9", "--wall", "-3,1,3,1"]);
-    assert!(text.contains("(179.9999999° wide)"), "{text}");
+    // 179.99999989° is less than the widest a beam may be, 179.9999999°, and must read so.
+    let text = run(&["--from", "1,0", "--to", "-1,1.9e-9", "--wall", "-3,1,3,1"]);
+    assert!(text.contains("(179.99999989° wide)"), "{text}");
     assert!(!text.contains("180°"), "{text}");
     let text = run(&["--from", "1,1", "--to", "1,1.000001", "--wall", "0,3,3,0"]);
     assert!(
@@ -99,6 +99,29 @@ fn messages_name_the_limits() {
         e.contains("mirror 1 is 2.0e-13 long: a segment must be longer than 2.0e-12"),
         "{e}"
     );
+}
+
+#[test]
+fn a_width_refused_reads_as_breaking_the_rule_it_states() {
+    // 179.99999994° is under 180°: the rule it breaks is the one stated, to the digits shown.
+    let e = fails(&["--from", "1,0", "--to", "-1,1e-9", "--wall", "-5,1,5,1"]);
+    assert!(
+        e.contains("the two directions are 179.99999994° apart: a beam must be less than 179.9999999° wide"),
+        "{e}"
+    );
+    let e = fails(&[
+        "--from",
+        "1,1",
+        "--to",
+        "1,1.0000000001",
+        "--wall",
+        "-5,3,5,3",
+    ]);
+    assert!(
+        e.contains("the two directions are 2.9e-9° apart: a beam must be more than 1.0e-7° wide"),
+        "{e}"
+    );
+    assert!(!e.contains(" 0°"), "{e}");
 }
 
 fn beam_args(
@@ -321,4 +344,88 @@ fn three_reflections_in_a_box_of_mirrors_stay_readable() {
         .unwrap();
     let first_blue = fills.iter().position(|f| f.starts_with("#1f77b4")).unwrap();
     assert!(first_blue > last_green, "{fills:?}");
+}
+
+/// Every segment a piece meets, at any depth, is drawn inside the frame, clear of its edge,
+/// and named, though the first beam reaches only a short way.
+#[test]
+fn a_wall_that_a_deep_reflection_meets_is_drawn_and_named() {
+    let c = draw(&beam_args(
+        "0,0",
+        "0.5,1",
+        "1,1",
+        &["5,-1,5,1"],
+        &["-5,1,5,1", "-5,-1,5,-1"],
+        3,
+    ));
+    let f = frame(&c);
+    // The wall is the one upright thick line.
+    let wall = segments(&c)
+        .into_iter()
+        .find(|(a, b)| (a[0] - b[0]).abs() < 0.5 && (a[1] - b[1]).abs() > 10.0)
+        .expect("the wall at x = 5 is drawn");
+    for p in [wall.0, wall.1] {
+        assert!(
+            p[0] > f[0] + 10.0 && p[0] < f[2] - 10.0 && p[1] > f[1] && p[1] < f[3],
+            "{wall:?} on the edge of {f:?}"
+        );
+    }
+    let labels = labels(&c);
+    let (_, b) = labels
+        .iter()
+        .find(|(t, _)| t == "wall 1")
+        .expect("the wall is named");
+    // Beside the wall, not somewhere else.
+    assert!(
+        (b[0] - wall.0[0]).abs() < 30.0 || (b[2] - wall.0[0]).abs() < 30.0,
+        "{b:?}"
+    );
+}
+
+/// The eye's label keeps off the beam's edges where they leave the eye, so the apex shows.
+#[test]
+fn the_eye_label_leaves_the_apex_of_the_beam_clear() {
+    for (from, to) in [
+        ("1,0.2", "1,-0.2"),
+        ("-1,0.2", "-1,-0.2"),
+        ("0.2,1", "-0.2,1"),
+        ("1,1", "-1,1"),
+    ] {
+        let c = draw(&beam_args(
+            "1,0",
+            from,
+            to,
+            &["3,-1,3,1", "-1,-1,-1,1", "-1,2,3,2"],
+            &[],
+            1,
+        ));
+        let e = eye(&c);
+        let (_, b) = labels(&c)
+            .into_iter()
+            .find(|(t, _)| t == "eye")
+            .expect("the eye is named");
+        // The beam's edges: the thin lines that start at the eye.
+        let edges: Vec<_> = c
+            .display
+            .iter()
+            .filter_map(|p| match p {
+                Prim::Line {
+                    from, to, width, ..
+                } if *width < 2.0 && (from[0] - e[0]).hypot(from[1] - e[1]) < 0.5 => Some(*to),
+                _ => None,
+            })
+            .collect();
+        assert!(edges.len() >= 2, "{from} {to}: {edges:?}");
+        for q in edges {
+            let len = (q[0] - e[0]).hypot(q[1] - e[1]);
+            for k in 0..=60 {
+                let t = (k as f32).min(len) / len;
+                let x = [e[0] + t * (q[0] - e[0]), e[1] + t * (q[1] - e[1])];
+                assert!(
+                    !inside(&b, x),
+                    "{from} {to}: the eye's label {b:?} on the edge at {x:?}"
+                );
+            }
+        }
+    }
 }

@@ -6,7 +6,7 @@
 //! of every other mark, except the first beam's, which are always numbered.
 
 use super::canvas::{Anchor, Canvas};
-use super::labels::{around, around_rings, text_box, Box2, Labels};
+use super::labels::{around_rings, text_box, Box2, Labels};
 use super::style;
 use crate::accel::beam::{name, Beam, Piece, Segment};
 use crate::trace::RayKind;
@@ -21,6 +21,8 @@ const H: f32 = 620.0;
 const MARGIN: f32 = 24.0;
 const TOP: f32 = 84.0;
 const BOTTOM: f32 = 64.0;
+/// How far from the eye (pixels) the beam's edges keep labels off, so that the apex shows.
+const APEX: f32 = 60.0;
 
 /// How each depth of reflection is drawn: fills for pieces a segment sees and pieces that
 /// meet none, the edges' colour and width. Deeper is paler and thinner, so that the first
@@ -231,6 +233,12 @@ pub fn figure(beam: &Beam, segments: &[Segment], pieces: &[Piece]) -> Canvas {
     }
     let eye = view.at(beam.apex);
     labels.block_point(eye, 7.0);
+    // The first part of the beam's edges, where they leave the eye: no label hides the apex.
+    for d in [beam.from, beam.to] {
+        let d = d.normalize();
+        let tip = (eye.0 + APEX * d.x as f32, eye.1 - APEX * d.y as f32);
+        labels.block_segment(eye, tip, 1.5);
+    }
     for &(_, at) in &apexes {
         c.circle(
             at,
@@ -254,7 +262,7 @@ pub fn figure(beam: &Beam, segments: &[Segment], pieces: &[Piece]) -> Canvas {
         });
     }
     jobs.push(Job {
-        candidates: around(eye, 10.0),
+        candidates: behind_first(eye, beam, "eye"),
         text: "eye".to_string(),
         color: style::ink(),
         needed: true,
@@ -350,6 +358,23 @@ pub fn figure(beam: &Beam, segments: &[Segment], pieces: &[Piece]) -> Canvas {
     };
     c.text((MARGIN, H - 16.0), &last, 12.0, style::ink(), Anchor::Left);
     c
+}
+
+/// Candidate places for the eye's label: around it, those behind the eye, away from where
+/// the beam goes, first.
+fn behind_first(eye: (f32, f32), beam: &Beam, text: &str) -> Vec<((f32, f32), Anchor)> {
+    // The beam's middle direction, in pixels (y down); it is less than half a turn wide.
+    let m = beam.from.normalize() + beam.to.normalize();
+    let m = (m.x as f32, -m.y as f32);
+    let ahead = |&(at, anchor): &((f32, f32), Anchor)| {
+        let b = text_box(at, text, 12.0, anchor);
+        let (x, y) = ((b[0] + b[2]) / 2.0 - eye.0, (b[1] + b[3]) / 2.0 - eye.1);
+        (x * m.0 + y * m.1) / x.hypot(y).max(1e-3)
+    };
+    // Nearer rings first among places about as far behind.
+    let mut out = around_rings(eye, 10.0);
+    out.sort_by_key(|c| (ahead(c) * 2.0).round() as i32);
+    out
 }
 
 /// Where a piece's edge rays end: on the segment that sees it, or past the frame.
@@ -506,6 +531,23 @@ mod tests {
         let [lo, hi] = frame(&beam, &segs, &pieces);
         // Not a point at the eye: the beam is drawn some way out.
         assert!(hi.y > 3.0 && lo.y < 0.0, "{lo} {hi}");
+    }
+
+    #[test]
+    fn the_frame_holds_where_every_reflection_meets_a_segment_with_a_margin() {
+        // The first beam reaches only (1, 1); its third reflection meets the wall at x = 5.
+        let beam = Beam::between(DVec2::ZERO, DVec2::new(0.5, 1.0), DVec2::new(1.0, 1.0));
+        let segs = [
+            seg((-5.0, 1.0), (5.0, 1.0), true),
+            seg((-5.0, -1.0), (5.0, -1.0), true),
+            seg((5.0, -1.0), (5.0, 1.0), false),
+        ];
+        let pieces = trace(&beam, &segs, 3);
+        let [lo, hi] = frame(&beam, &segs, &pieces);
+        let margin = 0.05 * (hi - lo).max_element();
+        let inner = [lo + DVec2::splat(margin), hi - DVec2::splat(margin)];
+        assert!(contains(inner, DVec2::new(5.0, -1.0)), "{lo} {hi}");
+        assert!(contains(inner, DVec2::new(5.0, 1.0)), "{lo} {hi}");
     }
 
     #[test]

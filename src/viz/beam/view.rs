@@ -87,7 +87,9 @@ const REACH: f64 = 3.0;
 /// the beam reaches (the eye and where its pieces meet segments), with a margin, grown to
 /// take in whatever lies within [`REACH`] times that size of it: whole segments, the
 /// reflected beams' pieces, and always the first reflections' mirrored eyes, the apexes the
-/// figure draws. A segment that reaches further is cut at the frame, so a mirror 10¹² long
+/// figure draws, and where every piece of every reflected beam meets a segment, however far,
+/// so that each segment the printed list names is drawn, with the margin too, and can be
+/// labelled. A segment that reaches further is cut at the frame, so a mirror 10¹² long
 /// does not shrink the beam to a point.
 ///
 /// The mirrored eyes always fit: a first reflection's apex lies twice the eye's distance
@@ -119,6 +121,7 @@ pub fn frame(beam: &Beam, segments: &[Segment], pieces: &[Piece]) -> [DVec2; 2] 
         if let Some((r, sub)) = &p.reflected {
             points.push(r.apex);
             reached(sub, &mut further);
+            met(sub, &mut points);
         }
     }
     for s in segments {
@@ -149,6 +152,18 @@ fn reached(pieces: &[Piece], out: &mut Vec<DVec2>) {
         }
         if let Some((_, sub)) = &p.reflected {
             reached(sub, out);
+        }
+    }
+}
+
+/// Where the pieces of reflected beams meet segments, deeper beams too.
+fn met(pieces: &[Piece], out: &mut Vec<DVec2>) {
+    for p in pieces {
+        if let Some((_, h)) = p.hit {
+            out.extend(h);
+        }
+        if let Some((_, sub)) = &p.reflected {
+            met(sub, out);
         }
     }
 }
