@@ -241,8 +241,10 @@ pub fn text(rays: &[Ray], w: &BundleWorking) -> String {
 
 const AXES: [&str; 3] = BundleWorking::AXES;
 
-/// One axis's signs for a bundle that is not sign-coherent: "x: d from −0.3 to 0.3, changes
-/// sign", or "z: d from 1 to 1, one sign (+)". The figure's rows say the same.
+/// One axis's signs for a bundle that is not sign-coherent: "x: dx from -0.3 to 0.3, changes
+/// sign ...", "z: dz = 1 for every ray, one sign (positive); ...", or for a zero, "y: dy = 0
+/// for every ray (+0, which the walk's 1/d counts as positive); ...". The figure's rows say
+/// the same.
 fn axis_signs(rays: &[Ray], w: &BundleWorking, k: usize) -> String {
     let (lo, hi) = rays
         .iter()
@@ -256,12 +258,24 @@ fn axis_signs(rays: &[Ray], w: &BundleWorking, k: usize) -> String {
         format!("d{name} from {} to {}", tiny(lo), tiny(hi))
     };
     if w.coherent_axes[k] {
-        let sign = if rays[0].dir[k].is_sign_negative() {
-            "negative"
+        // The sign the walk sees is that of 1/d: a zero is +0 or −0, which 1/d makes +∞ or
+        // −∞, so the walk counts it as positive or negative; the text says so rather than
+        // call a zero positive.
+        let negative = rays[0].dir[k].is_sign_negative();
+        let (sign, zero) = if negative {
+            ("negative", "−0")
         } else {
-            "positive"
+            ("positive", "+0")
         };
-        format!("{name}: {range}, one sign ({sign}); unused, as the bundle is mixed")
+        let counted = format!("{zero}, which the walk's 1/d counts as {sign}");
+        let signs = if hi == 0.0 && lo == 0.0 {
+            format!(" ({counted})")
+        } else if lo == 0.0 || hi == 0.0 {
+            format!(", one sign ({sign}, with {counted})")
+        } else {
+            format!(", one sign ({sign})")
+        };
+        format!("{name}: {range}{signs}; unused, as the bundle is mixed")
     } else {
         format!("{name}: {range}, changes sign (1/d{name} would pass through ±∞): no bound")
     }

@@ -355,3 +355,245 @@ fn the_books_views_stay_and_figures_are_deterministic() {
     let png = image::open(&out).expect("a PNG").to_rgb8();
     assert_eq!(png.dimensions(), (960, 500));
 }
+
+/// The t axis's tick labels (size 10, centred under the axis), left to right, with their
+/// boxes (x0, x1) in pixels.
+fn tick_labels(c: &Canvas) -> Vec<(String, f32, f32)> {
+    let mut ticks: Vec<(String, f32, f32)> = c
+        .display
+        .iter()
+        .filter_map(|p| match p {
+            Prim::Text {
+                at,
+                text,
+                size,
+                anchor: Anchor::Center,
+                ..
+            } if *size == 10.0 && at[0] > 480.0 => {
+                let w = Canvas::text_width(text, *size);
+                Some((text.clone(), at[0] - w / 2.0, at[0] + w / 2.0))
+            }
+            _ => None,
+        })
+        .collect();
+    ticks.sort_by(|a, b| a.1.total_cmp(&b.1));
+    ticks
+}
+
+/// The bundle's exit bound is ∞ (no axis bounds it: every direction is 0 along z, and
+/// along x or y at one end): the axis used to span 0 to 1.6·10⁻⁶ and read "0 0 0 0 0".
+/// It now reaches the box's far side (t = 1 for every ray here), its labels distinct.
+#[test]
+fn the_t_axis_spans_the_box_when_the_exit_bound_is_infinite() {
+    let c = figure(&[
+        "--origin",
+        "0,0,0",
+        "--dir",
+        "1,0,0",
+        "--bundle-to",
+        "0,1,0",
+    ]);
+    assert!(has_text(&c, "∞ (cut)"), "{:?}", c.texts());
+    let ticks = tick_labels(&c);
+    let names: Vec<&str> = ticks.iter().map(|t| t.0.as_str()).collect();
+    assert!(ticks.len() >= 3, "{names:?}");
+    let mut distinct = names.clone();
+    distinct.dedup();
+    assert_eq!(distinct, names, "tick labels repeat");
+    assert_eq!(names[0], "0");
+    // Past the far side, t = 1, which is a tick.
+    assert!(names.contains(&"1"), "{names:?}");
+    let last: f64 = names.last().unwrap().parse().unwrap();
+    assert!((1.0..=4.0).contains(&last), "{names:?}");
+}
+
+/// At t ≈ 10¹², the ticks used to be 0, 4·10¹¹, ... written in full and run into one
+/// another ("0 40000018840037001200509001800753664"): now a nice step, written compactly,
+/// and no two labels overlap.
+#[test]
+fn tick_labels_at_a_large_scale_are_short_and_do_not_overlap() {
+    let c = figure(&[
+        "--origin",
+        "0,0,-1e12",
+        "--dir",
+        "0,0,1",
+        "--bundle-to",
+        "1e-12,0,1",
+    ]);
+    let ticks = tick_labels(&c);
+    let names: Vec<&str> = ticks.iter().map(|t| t.0.as_str()).collect();
+    assert!(ticks.len() >= 2, "{names:?}");
+    assert!(names.contains(&"1e12"), "{names:?}");
+    for t in &names {
+        assert!(t.len() <= 6, "{names:?}");
+        // Each a nice number: 1, 2 or 5 (or 1.5, ...) times a power of ten, or 0.
+        let v: f64 = t.parse().unwrap();
+        assert!(v == 0.0 || v >= 1e11, "{names:?}");
+    }
+    for p in ticks.windows(2) {
+        assert!(p[0].2 + 2.0 <= p[1].1, "{ticks:?} overlap");
+    }
+    // And at small and middling scales, for boxes from 10⁻⁶ to 10⁵ away.
+    for z in ["-1e-6", "-0.003", "-5", "-77", "-1e5"] {
+        let o = format!("0,0,{z}");
+        let c = figure(&[
+            "--origin",
+            &o,
+            "--dir",
+            "0,0,1",
+            "--bundle-to",
+            "1e-12,0,1",
+            "--min",
+            "-1e-7,-1e-7,-1e-7",
+            "--max",
+            "1e-7,1e-7,1e-7",
+        ]);
+        let ticks = tick_labels(&c);
+        let names: Vec<&str> = ticks.iter().map(|t| t.0.as_str()).collect();
+        let mut distinct = names.clone();
+        distinct.dedup();
+        assert_eq!(distinct, names, "{z}: tick labels repeat");
+        assert!(names.len() >= 2, "{z}: {names:?}");
+        for p in ticks.windows(2) {
+            assert!(p[0].2 + 2.0 <= p[1].1, "{z}: {ticks:?} overlap");
+        }
+    }
+}
+
+/// The exit bound's label sat on the rays just past P, on a plate of the background: the
+/// rays seemed to start away from P. Every label of the left panel now keeps off P and
+/// off the first 40 pixels of every ray.
+#[test]
+fn labels_keep_off_the_rays_near_p() {
+    let cases: [&[&str]; 3] = [
+        &[
+            "--origin",
+            "0,0,-5",
+            "--dir",
+            "0,2,1",
+            "--bundle-to",
+            "0,3,1",
+        ],
+        ALONG_Y,
+        &[
+            "--origin",
+            "0,0,0",
+            "--dir",
+            "0.1,0.05,1",
+            "--bundle-to",
+            "0.4,0.05,1",
+        ],
+    ];
+    for args in cases {
+        let c = figure(args);
+        let p = p_at(&c);
+        // The label boxes of the left panel (as the labeller pads them), and the plates.
+        let mut boxes: Vec<[f32; 4]> = c
+            .display
+            .iter()
+            .filter_map(|q| match q {
+                Prim::Text {
+                    at,
+                    text,
+                    size,
+                    anchor,
+                    ..
+                } if at[0] < 480.0 && at[1] > LEFT.1 && at[1] < LEFT.3 => {
+                    let w = Canvas::text_width(text, *size);
+                    let x = match anchor {
+                        Anchor::Left => at[0],
+                        Anchor::Center => at[0] - w / 2.0,
+                        Anchor::Right => at[0] - w,
+                    };
+                    let h = size * 0.62;
+                    Some([x, at[1] - h, x + w, at[1] + h])
+                }
+                _ => None,
+            })
+            .collect();
+        boxes.extend(c.display.iter().filter_map(|q| match q {
+            Prim::Rect {
+                min,
+                size,
+                stroke: None,
+                ..
+            } if min[0] < 480.0 => Some([min[0], min[1], min[0] + size[0], min[1] + size[1]]),
+            _ => None,
+        }));
+        assert!(boxes.len() >= 2, "{args:?}: {boxes:?}");
+        let rays: Vec<([f32; 2], [f32; 2])> = c
+            .display
+            .iter()
+            .filter_map(|q| match q {
+                Prim::Line {
+                    from, to, dashed, ..
+                } if !dashed && *from == p => Some((*from, *to)),
+                _ => None,
+            })
+            .collect();
+        assert!(!rays.is_empty(), "{args:?}");
+        let covers =
+            |b: &[f32; 4], q: [f32; 2]| b[0] < q[0] && q[0] < b[2] && b[1] < q[1] && q[1] < b[3];
+        for b in &boxes {
+            assert!(!covers(b, p), "{args:?}: {b:?} covers P at {p:?}");
+            for (a, e) in &rays {
+                let len = (e[0] - a[0]).hypot(e[1] - a[1]);
+                for i in 1..=40 {
+                    let f = (i as f32).min(len) / len;
+                    let q = [a[0] + (e[0] - a[0]) * f, a[1] + (e[1] - a[1]) * f];
+                    assert!(
+                        !covers(b, q),
+                        "{args:?}: label {b:?} covers the ray from P at {q:?}"
+                    );
+                }
+            }
+        }
+        // The exit bound is still named, here near P.
+        if args[3] == "0,2,1" {
+            assert!(has_text(&c, "t = exit bound"), "{:?}", c.texts());
+        }
+    }
+}
+
+/// A direction that is 0 along an axis for every ray is +0 (the command's lerp makes −0
+/// +0): the walk's 1/d counts it as positive, but a zero is not "positive".
+#[test]
+fn a_zero_direction_is_not_called_positive() {
+    let text = run(&[
+        "--origin",
+        "0,0,-5",
+        "--dir",
+        "-1e-300,0,1",
+        "--bundle-to",
+        "1e-300,0,1",
+    ]);
+    assert!(
+        text.contains(
+            "y: dy = 0 for every ray (+0, which the walk's 1/d counts as positive); unused"
+        ),
+        "{text}"
+    );
+    assert!(
+        !text.contains("dy = 0 for every ray, one sign (positive)"),
+        "{text}"
+    );
+    assert!(
+        text.contains("z: dz = 1 for every ray, one sign (positive); unused"),
+        "{text}"
+    );
+    // −0, through the library: counted negative, and said so.
+    use glam::DVec3;
+    use rtlab::math::Ray;
+    let o = DVec3::new(0.0, 0.0, -5.0);
+    let rays = [
+        Ray::new(o, DVec3::new(-0.1, -0.0, 1.0)),
+        Ray::new(o, DVec3::new(0.2, -0.0, 1.0)),
+    ];
+    let b = rtlab::shapes::Aabb::new(DVec3::splat(-1.0), DVec3::splat(1.0));
+    let w = rtlab::accel::bundle_working(&rays, &b);
+    let text = rtlab::cli::intersect_bundle::text(&rays, &w);
+    assert!(
+        text.contains("dy = 0 for every ray (−0, which the walk's 1/d counts as negative)"),
+        "{text}"
+    );
+}

@@ -10,7 +10,7 @@ use super::labels::{text_box, Labels};
 use super::style;
 use crate::accel::BundleWorking;
 use crate::math::Ray;
-use crate::shapes::working::{short, tiny};
+use crate::shapes::working::tiny;
 use glam::DVec2;
 
 mod view;
@@ -140,13 +140,39 @@ fn space(c: &mut Canvas, rays: &[Ray], w: &BundleWorking, bounds: Option<(f32, f
             Some(style::shape_fill()),
         );
     }
-    // Labels are kept off each other and off P: `taken` holds what is written so far.
+    // Labels are kept off each other, off P and off the rays where they leave P (a label
+    // there, on its plate, made the rays seem to start away from P): `labels` holds what
+    // is taken so far.
     let o = v.px(rays[0].origin);
-    let p_label = o + DVec2::new(0.0, 14.0);
     let (x0, y0, x1, y1) = v.rect;
     let mut labels = Labels::new([x0 as f32, y0 as f32, x1 as f32, y1 as f32]);
     labels.block_point(pt(o), 5.0);
-    labels.block(text_box(pt(p_label), "P", 12.0, Anchor::Center));
+    let drawn: Vec<Option<(DVec2, DVec2)>> = rays
+        .iter()
+        .map(|r| {
+            v.leave(r)
+                .and_then(|t| v.clip(v.px(r.origin), v.px(r.at(t))))
+        })
+        .collect();
+    for seg in &drawn {
+        match seg {
+            Some((a, b)) => {
+                let end = *a + (*b - *a).clamp_length_max(NEAR_P);
+                labels.block_segment(pt(*a), pt(end), 2.5);
+            }
+            None => labels.block_point(pt(o), 9.0),
+        }
+    }
+    // P's label under it, else above, right or left of it: wherever the rays are not.
+    let p_tries = [
+        (pt(o + DVec2::new(0.0, 14.0)), Anchor::Center),
+        (pt(o + DVec2::new(0.0, -14.0)), Anchor::Center),
+        (pt(o + DVec2::new(9.0, 0.0)), Anchor::Left),
+        (pt(o + DVec2::new(-9.0, 0.0)), Anchor::Right),
+    ];
+    let (p_label, p_anchor) = labels
+        .reserve(&p_tries, "P", 12.0, true)
+        .unwrap_or(p_tries[0]);
     let dots: Vec<DVec2> = rays
         .iter()
         .zip(&w.rays)
@@ -166,16 +192,13 @@ fn space(c: &mut Canvas, rays: &[Ray], w: &BundleWorking, bounds: Option<(f32, f
     ];
     labels.place_any(c, &box_label, "box", 11.0, style::muted());
     // Each ray from its origin to where it leaves the panel; a ray seen end-on as a ring.
-    for (r, verdict) in rays.iter().zip(&w.rays) {
+    for ((r, verdict), seg) in rays.iter().zip(&w.rays).zip(&drawn) {
         let color = if verdict.lane.unwrap_or(verdict.own) {
             style::ray(crate::trace::RayKind::Camera)
         } else {
             style::tossed()
         };
-        match v
-            .leave(r)
-            .and_then(|t| v.clip(v.px(r.origin), v.px(r.at(t))))
-        {
+        match *seg {
             Some((a, b)) => c.line(pt(a), pt(b), color, 1.0, false),
             None => c.circle(pt(v.px(r.origin)), 7.0, Some((color, 1.0)), None),
         }
@@ -183,6 +206,10 @@ fn space(c: &mut Canvas, rays: &[Ray], w: &BundleWorking, bounds: Option<(f32, f
     // The bounds: where each ray is at t = bound, joined across the bundle; left out when
     // some ray is out of the panel by then, or when the front is a point (t = 0 at a
     // shared P: the right panel shows it).
+    let mut off_rays = labels.clone();
+    for (a, b) in drawn.iter().flatten() {
+        off_rays.block_segment(pt(*a), pt(*b), 2.0);
+    }
     if let Some((entry, exit)) = bounds {
         for (t, name) in [(entry, "entry bound"), (exit, "exit bound")] {
             let t = t as f64;
@@ -222,10 +249,27 @@ fn space(c: &mut Canvas, rays: &[Ray], w: &BundleWorking, bounds: Option<(f32, f
                 (pt(right + DVec2::new(8.0, 0.0)), Anchor::Left),
                 (pt(left + DVec2::new(-8.0, 0.0)), Anchor::Right),
             ]);
+            // Off every ray if some place near the front is (beside its ends or further
+            // from it, if need be); else on its plate over the rays, but never near P.
+            let mut apart = tries.clone();
+            apart.extend([
+                (pt(low + DVec2::new(6.0, 12.0)), Anchor::Left),
+                (pt(low + DVec2::new(-6.0, 12.0)), Anchor::Right),
+                (pt(top + DVec2::new(-6.0, -12.0)), Anchor::Right),
+                (pt(top + DVec2::new(6.0, -12.0)), Anchor::Left),
+                (pt(top + DVec2::new(0.0, -24.0)), Anchor::Center),
+                (pt(low + DVec2::new(0.0, 24.0)), Anchor::Center),
+            ]);
             let text = format!("t = {name}");
-            if let Some((at, anchor)) = labels.reserve(&tries, &text, 11.0, false) {
+            let pick = off_rays
+                .reserve(&apart, &text, 11.0, false)
+                .or_else(|| labels.reserve(&tries, &text, 11.0, false));
+            if let Some((at, anchor)) = pick {
+                let taken = text_box(at, &text, 11.0, anchor);
+                labels.block(taken);
+                off_rays.block(taken);
                 // On a plate of the background, so that the rays under it do not cross it.
-                let [bx0, by0, bx1, by1] = text_box(at, &text, 11.0, anchor);
+                let [bx0, by0, bx1, by1] = taken;
                 c.rect(
                     (bx0, by0),
                     (bx1 - bx0, by1 - by0),
@@ -245,8 +289,11 @@ fn space(c: &mut Canvas, rays: &[Ray], w: &BundleWorking, bounds: Option<(f32, f
         );
     }
     c.circle(pt(o), 3.0, None, Some(style::ink()));
-    c.text(pt(p_label), "P", 12.0, style::ink(), Anchor::Center);
+    c.text(p_label, "P", 12.0, style::ink(), p_anchor);
 }
+
+/// How far from P, in pixels, the rays are kept clear of labels.
+const NEAR_P: f64 = 48.0;
 
 /// Right panel: the t axis, a row per slab, the three together, and the rays' own entries.
 fn times(
@@ -259,20 +306,17 @@ fn times(
     let label_w = 150.0;
     let (t0, t1) = (x0 + label_w + 40.0, x1 - 50.0);
     // The scale: from 0 (where the walk starts each ray) to past the bounds that decide and
-    // every ray's entry; a bar beyond either end is cut there, its true end written beside.
-    let focus = bounds
-        .iter()
-        .flat_map(|&(a, b)| [a, b])
-        .chain(w.rays.iter().filter(|v| v.own).map(|v| v.t_enter))
-        .filter(|t| t.is_finite());
-    let t_max = focus.fold(0.0f32, f32::max).max(1e-6) * 1.6;
+    // every ray's entry, then on to the next tick; a bar beyond either end is cut there, its
+    // true end written beside.
+    let (t_max, ticks) = ticks(reach(rays, w, bounds) * 1.6, t1 - t0);
+    let t_max = t_max as f32;
     let at = |t: f32| t0 + (t.clamp(0.0, t_max) / t_max) * (t1 - t0);
     let rows = 6.0;
     let row_h = ((y1 - y0) - 40.0) / rows;
     let row_y = |i: usize| y0 + 10.0 + row_h * (i as f32 + 0.5);
     let num = |t: f32| {
         if t.is_finite() {
-            short(t as f64)
+            tiny(t as f64)
         } else {
             "∞".to_string()
         }
@@ -429,16 +473,119 @@ fn times(
     // The t axis.
     let y = row_y(5);
     c.line((t0, y), (t1, y), style::ink(), 1.0, false);
-    for i in 0..=4 {
-        let t = t_max * i as f32 / 4.0;
-        c.line((at(t), y - 4.0), (at(t), y + 4.0), style::ink(), 1.0, false);
-        c.text(
-            (at(t), y + 14.0),
-            &num(t),
-            10.0,
-            style::ink(),
-            Anchor::Center,
-        );
+    for (t, label) in ticks {
+        let x = at(t as f32);
+        c.line((x, y - 4.0), (x, y + 4.0), style::ink(), 1.0, false);
+        c.text((x, y + 14.0), &label, TICK, style::ink(), Anchor::Center);
     }
     c.text((t1 + 6.0, y), "t", 12.0, style::ink(), Anchor::Left);
+}
+
+/// The tick labels' size.
+const TICK: f32 = 10.0;
+
+/// The largest t the right panel must show: the latest finite bound or entry shown. When the
+/// exit bound is ∞ (no axis bounds the bundle), on to where the entering rays leave the box
+/// (its far side), so that the axis spans the box; and when nothing shown is past 0, that far
+/// side, or else 1: an axis from 0 to 0 has nothing to mark.
+fn reach(rays: &[Ray], w: &BundleWorking, bounds: Option<(f32, f32)>) -> f64 {
+    let shown = bounds
+        .iter()
+        .flat_map(|&(a, b)| [a, b])
+        .chain(w.rays.iter().filter(|v| v.own).map(|v| v.t_enter))
+        .filter(|t| t.is_finite())
+        .fold(0.0f32, f32::max) as f64;
+    let open = bounds.is_some_and(|(_, b)| !b.is_finite());
+    if shown > 0.0 && !open {
+        return shown;
+    }
+    let (min, max) = (w.min.map(f64::from), w.max.map(f64::from));
+    let far = rays
+        .iter()
+        .zip(&w.rays)
+        .filter(|(_, v)| v.own)
+        .filter_map(|(r, _)| {
+            (0..3)
+                .filter(|&k| r.dir[k] != 0.0)
+                .map(|k| {
+                    let (a, b) = (
+                        (min[k] - r.origin[k]) / r.dir[k],
+                        (max[k] - r.origin[k]) / r.dir[k],
+                    );
+                    a.max(b)
+                })
+                .reduce(f64::min)
+        })
+        .filter(|t| t.is_finite())
+        .fold(0.0, f64::max);
+    match shown.max(far) {
+        t if t > 0.0 && t.is_finite() => t,
+        _ => 1.0,
+    }
+}
+
+/// The t axis's ticks on an axis `width` pixels long, from 0 to at least `reach` (> 0): the
+/// axis's end, and each tick's t and label. The ticks are multiples of a step of 1, 2 or 5
+/// × 10^k, the axis ends at the first multiple at or past `reach`, and the step is the
+/// smallest giving at most five intervals whose labels do not overlap (one interval, 0 and
+/// the step, always fits). Labels are exact and short: "0.5", "20", "1.5e12", "3e-7"
+/// (scientific notation from 10⁵ up, or for a step under 10⁻³).
+fn ticks(reach: f64, width: f32) -> (f64, Vec<(f64, String)>) {
+    let reach = if reach > 0.0 && reach.is_finite() {
+        reach
+    } else {
+        1.0
+    };
+    let k0 = (reach / 5.0).log10().floor() as i32;
+    let mut last = None;
+    for k in k0..=k0 + 2 {
+        for m in [1u64, 2, 5] {
+            let step = m as f64 * 10f64.powi(k);
+            if step * 5.0 < reach * (1.0 - 1e-9) {
+                continue;
+            }
+            let n = ((reach / step) * (1.0 - 1e-12)).ceil().max(1.0) as u64;
+            let end = step * n as f64;
+            let sci = end >= 1e5 || k < -3;
+            let ticks: Vec<(f64, String)> = (0..=n)
+                .map(|i| (step * i as f64, tick_label(i * m, k, sci)))
+                .collect();
+            let gap = width / n as f32;
+            let fits = ticks.windows(2).all(|p| {
+                let half = |s: &str| Canvas::text_width(s, TICK) / 2.0;
+                half(&p[0].1) + half(&p[1].1) + 6.0 <= gap
+            });
+            if fits || n == 1 {
+                return (end, ticks);
+            }
+            last = Some((end, ticks));
+        }
+    }
+    last.expect("a step")
+}
+
+/// v × 10^k, exactly: "0", "40", "0.25", or with `sci`, "2.5e12", "3e-7".
+fn tick_label(v: u64, k: i32, sci: bool) -> String {
+    if v == 0 {
+        return "0".into();
+    }
+    let mut digits = v.to_string();
+    let mut k = k;
+    while digits.ends_with('0') {
+        digits.pop();
+        k += 1;
+    }
+    if sci {
+        let exp = k + digits.len() as i32 - 1;
+        let (lead, rest) = digits.split_at(1);
+        let dot = if rest.is_empty() { "" } else { "." };
+        return format!("{lead}{dot}{rest}e{exp}");
+    }
+    if k >= 0 {
+        return digits + &"0".repeat(k as usize);
+    }
+    let places = (-k) as usize;
+    let padded = format!("{digits:0>width$}", width = places + 1);
+    let (int, frac) = padded.split_at(padded.len() - places);
+    format!("{int}.{frac}")
 }
