@@ -429,9 +429,9 @@ impl RenderArgs {
 /// `--max-rays N`: 1 (the camera ray) to 4,294,967,295, the range a scene's `max_rays` takes.
 fn ray_budget(s: &str) -> std::result::Result<u64, String> {
     match s.trim().parse::<i128>() {
-        Ok(n) if n < 1 => Err(format!(
-            "{n}: must be at least 1 (the camera ray): it is the most rays one sample may trace"
-        )),
+        Ok(n) if n < 1 => Err(
+            "must be at least 1 (the camera ray): it is the most rays one sample may trace".into(),
+        ),
         Ok(n) if n > u32::MAX as i128 => Err(format!(
             "{n} is more than {}, the most a scene's max_rays takes",
             u32::MAX

@@ -724,7 +724,7 @@ fn cases() -> Vec<Case> {
             "a beam half a turn wide",
             vec![],
             vec!["beam", "--from", "1,0", "--to", "-1,0", "--wall", "-1,1,1,1"],
-            vec!["argument --from/--to", "180.000° apart"],
+            vec!["argument --from/--to", "180° apart", "less than 179.9999999° wide"],
         ),
         c(
             "an empty --mistake",
@@ -743,6 +743,18 @@ fn cases() -> Vec<Case> {
             s(obj(SPHERE)),
             vec!["render", "scene.json", "--traversal", "zigzag"],
             vec!["argument --traversal", "unknown traversal \"zigzag\"", "single or bundle"],
+        ),
+        c(
+            "a negative ray budget",
+            s(obj(SPHERE)),
+            vec!["render", "scene.json", "--max-rays", "-1"],
+            vec!["--max-rays", "must be at least 1 (the camera ray)"],
+        ),
+        c(
+            "a ray budget past a scene's range",
+            s(obj(SPHERE)),
+            vec!["render", "scene.json", "--max-rays", "5000000000"],
+            vec!["--max-rays", "5000000000 is more than 4294967295"],
         ),
         c(
             "pass 0",
