@@ -5,12 +5,15 @@
 
 use super::canvas::{Anchor, Canvas};
 use super::style;
-use crate::accel::{BundleWork, BUNDLE, FEW};
+use crate::accel::{BundleWork, BUNDLE};
 use crate::math::Ray;
 use crate::sampling::bundles::{bundle_of, NoBundle};
 use crate::scene::Scene;
 use crate::shapes::{Aabb, LocalHit, Shape};
 use glam::{DVec2, DVec3};
+
+mod words;
+use words::{coming_from, pixels_caption, plural, unopened, wrap};
 
 /// Figure size in pixels.
 const W: f32 = 960.0;
@@ -296,124 +299,6 @@ pub fn draw(scene: &Scene, x: u32, y: u32, k: u32) -> Result<Canvas, String> {
     Ok(c)
 }
 
-/// `one` for a count of 1, `many` for any other.
-fn plural<'a>(count: usize, one: &'a str, many: &'a str) -> &'a str {
-    if count == 1 {
-        one
-    } else {
-        many
-    }
-}
-
-/// `text` in lines no wider than `width` at `size`, broken at spaces (a word wider than
-/// the width has a line of its own).
-fn wrap(text: &str, size: f32, width: f32) -> Vec<String> {
-    let mut lines: Vec<String> = Vec::new();
-    for word in text.split(' ') {
-        match lines.last_mut() {
-            Some(line) if Canvas::text_width(&format!("{line} {word}"), size) <= width => {
-                line.push(' ');
-                line.push_str(word);
-            }
-            _ => lines.push(word.to_string()),
-        }
-    }
-    lines
-}
-
-/// The boxes some ray entered at one level of the walk, and what became of those the bundle
-/// did not open: read off the walk's record (`tested`: node, lane, the rays that entered)
-/// and the tree (a leaf lane holds primitives; an opened node was recorded).
-struct Unopened {
-    entered: usize,
-    /// Leaves: their primitives were tested, nothing below them to open.
-    leaves: usize,
-    /// Subtrees entered by no more than [`FEW`] rays: left to the single-ray walk.
-    alone: usize,
-    /// Subtrees more rays entered, never opened: by the time the bundle came to them its
-    /// rays had found nearer hits (any few still left went on alone).
-    passed: usize,
-}
-
-fn unopened(
-    tested: &[(usize, usize, u32)],
-    depth: &[usize],
-    nodes: &[crate::accel::Node],
-    level: usize,
-) -> Unopened {
-    let mut u = Unopened {
-        entered: 0,
-        leaves: 0,
-        alone: 0,
-        passed: 0,
-    };
-    for &(node, lane, mask) in tested {
-        if depth[node] != level || mask == 0 {
-            continue;
-        }
-        u.entered += 1;
-        let child = nodes[node].child[lane] as usize;
-        if nodes[node].count[lane] > 0 {
-            u.leaves += 1;
-        } else if !tested.iter().any(|t| t.0 == child) {
-            if mask.count_ones() <= FEW {
-                u.alone += 1;
-            } else {
-                u.passed += 1;
-            }
-        }
-    }
-    u
-}
-
-impl Unopened {
-    /// What became of the boxes entered above that the bundle did not open, for a panel's
-    /// note (`None`: it opened them all).
-    fn note(&self) -> Option<String> {
-        let subject = |k: usize| match (k == self.entered, k) {
-            (true, 1) => "the box entered".to_string(),
-            (true, 2) => "both boxes entered".to_string(),
-            (true, k) => format!("the {k} boxes entered"),
-            (false, k) => format!("{k} of the boxes entered"),
-        };
-        let mut parts = Vec::new();
-        if self.leaves > 0 {
-            let k = self.leaves;
-            parts.push(format!(
-                "{} {}: {} triangles are tested, nothing further to open",
-                subject(k),
-                plural(k, "is a leaf", "are leaves"),
-                plural(k, "its", "their")
-            ));
-        }
-        if self.alone > 0 {
-            let k = self.alone;
-            parts.push(format!(
-                "{} had two or fewer rays{}: those went on alone (the single-ray walk)",
-                subject(k),
-                plural(k, "", " each")
-            ));
-        }
-        if self.passed > 0 {
-            let k = self.passed;
-            parts.push(format!(
-                "{} {} not opened: by then {} rays had found nearer hits (or two or fewer \
-                 were left, and went on alone)",
-                subject(k),
-                plural(k, "was", "were"),
-                plural(k, "its", "their")
-            ));
-        }
-        if parts.is_empty() {
-            return None;
-        }
-        let mut text = parts.join("; ");
-        text[..1].make_ascii_uppercase();
-        text.push('.');
-        Some(text)
-    }
-}
-
 /// Figure layout: margins, the gap between the panels, the heights above and below them.
 const SIDE_MARGIN: f32 = 24.0;
 const GAP: f32 = 28.0;
@@ -429,72 +314,6 @@ const SUB_STEP: f32 = 16.0;
 const HEADING: f32 = 13.0;
 const NOTE: f32 = 11.0;
 const NOTE_STEP: f32 = 15.0;
-
-/// The bundle's pixels for the title: "pixels x 8–10, y 4–7" for a block of whole rows and
-/// columns, "pixels x 320–332 and y 240–252, every 4th" where `--subsample` skips some (a
-/// range wherever they are evenly spaced, "320/322/327" where not), "N pixels within x …,
-/// y …" when they do not fill their rows and columns.
-fn pixels_caption(pixels: &[(u32, u32)]) -> String {
-    let values = |of: fn(&(u32, u32)) -> u32| {
-        let mut v: Vec<u32> = pixels.iter().map(of).collect();
-        v.sort_unstable();
-        v.dedup();
-        v
-    };
-    let (xs, ys) = (values(|p| p.0), values(|p| p.1));
-    // The spacing of evenly spaced values (at least two of them).
-    let step = |v: &[u32]| match v {
-        [a, b, ..] if v.windows(2).all(|w| w[1] - w[0] == b - a) => Some(b - a),
-        _ => None,
-    };
-    let (sx, sy) = (step(&xs), step(&ys));
-    let common = match (sx, sy) {
-        (Some(a), Some(b)) if a == b && a > 1 => Some(a),
-        _ => None,
-    };
-    let list = |v: &[u32], step: Option<u32>| match (v, step) {
-        ([], _) => String::new(),
-        ([a], _) => a.to_string(),
-        ([a, .., z], Some(1)) => format!("{a}–{z}"),
-        ([a, .., z], Some(_)) if common.is_some() => format!("{a}–{z}"),
-        ([a, .., z], Some(d)) => format!("{a}–{z} every {}", ordinal(d)),
-        _ => v.iter().map(u32::to_string).collect::<Vec<_>>().join("/"),
-    };
-    let (x, y) = (list(&xs, sx), list(&ys, sy));
-    let within = match common {
-        Some(d) => format!("x {x} and y {y}, every {}", ordinal(d)),
-        None => format!("x {x}, y {y}"),
-    };
-    match pixels.len() {
-        1 => format!("pixel ({x}, {y})"),
-        n if n == xs.len() * ys.len() => format!("pixels {within}"),
-        n => format!("{n} pixels within {within}"),
-    }
-}
-
-/// 1st, 2nd, 3rd, 4th, …, 11th, 12th, 13th, …, 21st.
-fn ordinal(n: u32) -> String {
-    let suffix = match (n % 10, n % 100) {
-        (_, 11..=13) => "th",
-        (1, _) => "st",
-        (2, _) => "nd",
-        (3, _) => "rd",
-        _ => "th",
-    };
-    format!("{n}{suffix}")
-}
-
-/// Which side of the figure the rays come in from (object-space x right, z down): the
-/// opposite of where their summed direction points.
-fn coming_from(rays: &[Ray]) -> &'static str {
-    let d: DVec3 = rays.iter().map(|r| r.dir).sum();
-    match (d.x.abs() > d.z.abs(), d.x > 0.0, d.z > 0.0) {
-        (true, true, _) => "left",
-        (true, false, _) => "right",
-        (false, _, true) => "top",
-        (false, _, false) => "bottom",
-    }
-}
 
 fn entered_fill() -> tiny_skia::Color {
     style::rgba(90, 140, 200, 60)
