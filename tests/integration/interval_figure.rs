@@ -32,6 +32,19 @@ fn has_text(c: &Canvas, part: &str) -> bool {
     c.texts().iter().any(|t| t.contains(part))
 }
 
+/// The rays the left panel draws from P: its solid lines that start there (from, to).
+fn rays_from(c: &Canvas, p: [f32; 2]) -> Vec<([f32; 2], [f32; 2])> {
+    c.display
+        .iter()
+        .filter_map(|q| match q {
+            Prim::Line {
+                from, to, dashed, ..
+            } if !dashed && *from == p => Some((*from, *to)),
+            _ => None,
+        })
+        .collect()
+}
+
 /// Where the figure draws P (the one dot of radius 3).
 fn p_at(c: &Canvas) -> [f32; 2] {
     c.display
@@ -93,16 +106,7 @@ fn a_bundle_along_y_is_seen_along_another_axis_and_stays_in_its_panel() {
     );
     // The rays are lines from P to the right edge, in the direction they have.
     let p = p_at(&c);
-    let rays: Vec<([f32; 2], [f32; 2])> = c
-        .display
-        .iter()
-        .filter_map(|q| match q {
-            Prim::Line {
-                from, to, dashed, ..
-            } if !dashed && *from == p => Some((*from, *to)),
-            _ => None,
-        })
-        .collect();
+    let rays = rays_from(&c, p);
     assert_eq!(rays.len(), 4, "{rays:?}");
     assert!(rays.iter().all(|(a, b)| b[0] > a[0] + 300.0), "{rays:?}");
     // The text names the axes that bound nothing: x and z (some direction is 0 there).
@@ -521,16 +525,7 @@ fn labels_keep_off_the_rays_near_p() {
             _ => None,
         }));
         assert!(boxes.len() >= 2, "{args:?}: {boxes:?}");
-        let rays: Vec<([f32; 2], [f32; 2])> = c
-            .display
-            .iter()
-            .filter_map(|q| match q {
-                Prim::Line {
-                    from, to, dashed, ..
-                } if !dashed && *from == p => Some((*from, *to)),
-                _ => None,
-            })
-            .collect();
+        let rays = rays_from(&c, p);
         assert!(!rays.is_empty(), "{args:?}");
         let covers =
             |b: &[f32; 4], q: [f32; 2]| b[0] < q[0] && q[0] < b[2] && b[1] < q[1] && q[1] < b[3];
