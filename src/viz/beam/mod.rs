@@ -6,13 +6,15 @@
 //! of every other mark, except the first beam's, which are always numbered.
 
 use super::canvas::{Anchor, Canvas};
-use super::labels::{around_rings, text_box, Box2, Labels};
+use super::labels::{around_rings, Box2, Labels};
 use super::style;
 use crate::accel::beam::{name, Beam, Piece, Segment};
 use crate::trace::RayKind;
 use glam::DVec2;
 
+mod place;
 mod view;
+use place::{behind_first, beside, label, number_jobs, Job};
 pub use view::frame;
 use view::View;
 
@@ -92,15 +94,6 @@ fn collect<'a>(drawn: Drawn<'a>, out: &mut Vec<Drawn<'a>>) {
     }
 }
 
-/// A label to place once everything is drawn: the first free candidate, or (if `needed`)
-/// the first one even if it overlaps.
-struct Job {
-    candidates: Vec<((f32, f32), Anchor)>,
-    text: String,
-    color: tiny_skia::Color,
-    needed: bool,
-}
-
 /// The figure of `beam`'s `pieces` against `segments`.
 pub fn figure(beam: &Beam, segments: &[Segment], pieces: &[Piece]) -> Canvas {
     let mut c = Canvas::new(W as u32, H as u32, style::background());
@@ -114,40 +107,7 @@ pub fn figure(beam: &Beam, segments: &[Segment], pieces: &[Piece]) -> Canvas {
     };
     collect(first, &mut beams);
     let deepest = beams.iter().map(|d| d.level).max().unwrap_or(0);
-    let mirror_seen = pieces
-        .iter()
-        .any(|p| p.hit.is_some_and(|(i, _)| segments[i].mirror));
-    c.text(
-        (MARGIN, 22.0),
-        "Beam tracing (Heckbert and Hanrahan, 1984): one beam, clipped against the walls and mirrors nearest first",
-        15.0,
-        style::ink(),
-        Anchor::Left,
-    );
-    c.text(
-        (MARGIN, 44.0),
-        "Each numbered piece is the part of the beam that one segment sees; the rest of the beam goes on past it.",
-        12.0,
-        style::ink(),
-        Anchor::Left,
-    );
-    // Only what the figure shows: the mirrored eye is drawn for every first reflection.
-    let reflection = if deepest > 0 {
-        "A mirror's piece is reflected: a new beam whose rays seem to come from the eye mirrored in the mirror (where the dashed lines meet)."
-    } else if mirror_seen {
-        "A mirror's piece would be reflected as a new beam; --depth 0 follows no reflection."
-    } else if segments.iter().any(|s| s.mirror) {
-        "A mirror's piece would be reflected as a new beam; no mirror sees this beam."
-    } else {
-        "There is no mirror here: every piece stops at a wall or goes on."
-    };
-    c.text(
-        (MARGIN, 62.0),
-        reflection,
-        12.0,
-        style::muted(),
-        Anchor::Left,
-    );
+    heading(&mut c, segments, pieces, deepest);
 
     let view = View::new(frame(beam, segments, pieces));
     let (x0, y1) = view.at(view.min);
@@ -164,36 +124,7 @@ pub fn figure(beam: &Beam, segments: &[Segment], pieces: &[Piece]) -> Canvas {
     // the frame (checked per candidate).
     let mut labels = Labels::new([4.0, TOP - 6.0, W - 4.0, H - BOTTOM + 8.0]);
 
-    // The pieces, deepest reflections first so that the first beam is drawn on top.
-    let mut polygons: Vec<Vec<Vec<(f32, f32)>>> = Vec::new();
-    for d in &beams {
-        polygons.push(d.pieces.iter().map(|p| outline(&view, p)).collect());
-    }
-    for level in (0..=deepest).rev() {
-        let look = look(level);
-        for (d, polys) in beams.iter().zip(&polygons) {
-            if d.level != level {
-                continue;
-            }
-            for (p, poly) in d.pieces.iter().zip(polys) {
-                if poly.len() < 3 {
-                    continue;
-                }
-                let fill = if p.hit.is_some() {
-                    look.seen
-                } else {
-                    look.passing
-                };
-                c.polygon(poly, None, Some(fill));
-                let [e0, e1] = ends(&view, p);
-                for (a, b) in [(p.near[0], e0), (p.near[1], e1)] {
-                    if let Some((a, b)) = view.clip_line(a, b) {
-                        c.line(view.at(a), view.at(b), look.edge, look.width, false);
-                    }
-                }
-            }
-        }
-    }
+    let polygons = draw_pieces(&mut c, &view, &beams, deepest);
 
     // The first reflections' apexes, the mirrored eyes, each with the dashed lines from it
     // to the part of the mirror its beam leaves (deeper apexes are in the printed list).
@@ -275,56 +206,13 @@ pub fn figure(beam: &Beam, segments: &[Segment], pieces: &[Piece]) -> Canvas {
             needed: true,
         });
     }
-    // Numbers down to the second reflection; the third's pieces are in the printed list.
-    for level in 0..=deepest.min(2) {
-        for (n, (d, polys)) in beams.iter().zip(&polygons).enumerate() {
-            if d.level != level {
-                continue;
-            }
-            // How many other beams' pieces cover a place: the fewer, the less a number there
-            // could be taken for theirs.
-            let covered = |b: &Box2| {
-                let corners = [[b[0], b[1]], [b[2], b[1]], [b[2], b[3]], [b[0], b[3]]];
-                polygons
-                    .iter()
-                    .enumerate()
-                    .filter(|&(m, _)| m != n)
-                    .flat_map(|(_, polys)| polys)
-                    .filter(|poly| corners.iter().any(|&[x, y]| box_in(&[x, y, x, y], poly)))
-                    .count()
-            };
-            for (k, (p, poly)) in d.pieces.iter().zip(polys).enumerate() {
-                let text = format!("{}{}", d.prefix, k + 1);
-                let spots = spots(&view, p);
-                // Wholly inside its own piece, so that it cannot be read as a neighbour's.
-                let mut candidates: Vec<_> = spots
-                    .iter()
-                    .filter(|&&(at, anchor)| {
-                        let b = text_box(at, &text, 12.0, anchor);
-                        inside_frame(&b) && box_in(&b, poly)
-                    })
-                    .copied()
-                    .collect();
-                candidates.sort_by_key(|&(at, anchor)| covered(&text_box(at, &text, 12.0, anchor)));
-                // The first beam's numbers always (the nearest free place on the piece's
-                // middle ray if none fits inside); a reflection's only where one fits.
-                let needed = level == 0 && p.degrees >= 0.5;
-                if needed {
-                    candidates.extend(
-                        spots.iter().filter(|&&(at, anchor)| {
-                            inside_frame(&text_box(at, &text, 12.0, anchor))
-                        }),
-                    );
-                }
-                jobs.push(Job {
-                    candidates,
-                    text,
-                    color: style::ink(),
-                    needed,
-                });
-            }
-        }
-    }
+    jobs.extend(number_jobs(
+        &view,
+        &beams,
+        &polygons,
+        deepest,
+        &inside_frame,
+    ));
     let total =
         beams.iter().map(|d| d.pieces.len()).sum::<usize>() + names.len() + 1 + apexes.len();
     let mut placed = 0;
@@ -335,6 +223,90 @@ pub fn figure(beam: &Beam, segments: &[Segment], pieces: &[Piece]) -> Canvas {
         }
     }
 
+    legend(&mut c, deepest, placed == total);
+    c
+}
+
+/// The title and the two lines under it; the second says what the figure shows of mirrors.
+fn heading(c: &mut Canvas, segments: &[Segment], pieces: &[Piece], deepest: u32) {
+    let mirror_seen = pieces
+        .iter()
+        .any(|p| p.hit.is_some_and(|(i, _)| segments[i].mirror));
+    c.text(
+        (MARGIN, 22.0),
+        "Beam tracing (Heckbert and Hanrahan, 1984): one beam, clipped against the walls and mirrors nearest first",
+        15.0,
+        style::ink(),
+        Anchor::Left,
+    );
+    c.text(
+        (MARGIN, 44.0),
+        "Each numbered piece is the part of the beam that one segment sees; the rest of the beam goes on past it.",
+        12.0,
+        style::ink(),
+        Anchor::Left,
+    );
+    // Only what the figure shows: the mirrored eye is drawn for every first reflection.
+    let reflection = if deepest > 0 {
+        "A mirror's piece is reflected: a new beam whose rays seem to come from the eye mirrored in the mirror (where the dashed lines meet)."
+    } else if mirror_seen {
+        "A mirror's piece would be reflected as a new beam; --depth 0 follows no reflection."
+    } else if segments.iter().any(|s| s.mirror) {
+        "A mirror's piece would be reflected as a new beam; no mirror sees this beam."
+    } else {
+        "There is no mirror here: every piece stops at a wall or goes on."
+    };
+    c.text(
+        (MARGIN, 62.0),
+        reflection,
+        12.0,
+        style::muted(),
+        Anchor::Left,
+    );
+}
+
+/// The pieces of every beam, deepest reflections first so that the first beam is drawn on
+/// top; returns each beam's pieces' outlines (pixels), as `beams` lists them.
+fn draw_pieces(
+    c: &mut Canvas,
+    view: &View,
+    beams: &[Drawn],
+    deepest: u32,
+) -> Vec<Vec<Vec<(f32, f32)>>> {
+    let mut polygons: Vec<Vec<Vec<(f32, f32)>>> = Vec::new();
+    for d in beams {
+        polygons.push(d.pieces.iter().map(|p| outline(view, p)).collect());
+    }
+    for level in (0..=deepest).rev() {
+        let look = look(level);
+        for (d, polys) in beams.iter().zip(&polygons) {
+            if d.level != level {
+                continue;
+            }
+            for (p, poly) in d.pieces.iter().zip(polys) {
+                if poly.len() < 3 {
+                    continue;
+                }
+                let fill = if p.hit.is_some() {
+                    look.seen
+                } else {
+                    look.passing
+                };
+                c.polygon(poly, None, Some(fill));
+                let [e0, e1] = ends(view, p);
+                for (a, b) in [(p.near[0], e0), (p.near[1], e1)] {
+                    if let Some((a, b)) = view.clip_line(a, b) {
+                        c.line(view.at(a), view.at(b), look.edge, look.width, false);
+                    }
+                }
+            }
+        }
+    }
+    polygons
+}
+
+/// The colours' key at the foot, and whether every piece carries its number.
+fn legend(c: &mut Canvas, deepest: u32, all_numbered: bool) {
     c.text(
         (MARGIN, H - 36.0),
         "Blue: a piece a segment sees (numbered as in the printed list). Grey: a piece that meets no segment.",
@@ -351,30 +323,12 @@ pub fn figure(beam: &Beam, segments: &[Segment], pieces: &[Piece]) -> Canvas {
             ". "
         };
     }
-    last += if placed < total {
+    last += if !all_numbered {
         "Pieces without a number are in the printed list."
     } else {
         "Every ray of the beam lies in exactly one piece."
     };
     c.text((MARGIN, H - 16.0), &last, 12.0, style::ink(), Anchor::Left);
-    c
-}
-
-/// Candidate places for the eye's label: around it, those behind the eye, away from where
-/// the beam goes, first.
-fn behind_first(eye: (f32, f32), beam: &Beam, text: &str) -> Vec<((f32, f32), Anchor)> {
-    // The beam's middle direction, in pixels (y down); it is less than half a turn wide.
-    let m = beam.from.normalize() + beam.to.normalize();
-    let m = (m.x as f32, -m.y as f32);
-    let ahead = |&(at, anchor): &((f32, f32), Anchor)| {
-        let b = text_box(at, text, 12.0, anchor);
-        let (x, y) = ((b[0] + b[2]) / 2.0 - eye.0, (b[1] + b[3]) / 2.0 - eye.1);
-        (x * m.0 + y * m.1) / x.hypot(y).max(1e-3)
-    };
-    // Nearer rings first among places about as far behind.
-    let mut out = around_rings(eye, 10.0);
-    out.sort_by_key(|c| (ahead(c) * 2.0).round() as i32);
-    out
 }
 
 /// Where a piece's edge rays end: on the segment that sees it, or past the frame.
@@ -393,79 +347,6 @@ fn outline(view: &View, p: &Piece) -> Vec<(f32, f32)> {
     let [e0, e1] = ends(view, p);
     let poly = view.clip(vec![p.near[0], e0, e1, p.near[1]]);
     poly.iter().map(|&q| view.at(q)).collect()
-}
-
-/// Candidate places for a piece's number, in pixels: along its middle ray, then rays nearer
-/// its edges, each first towards the far end of its part in the frame, where a piece that
-/// widens away from its apex has most room.
-fn spots(view: &View, p: &Piece) -> Vec<((f32, f32), Anchor)> {
-    let [e0, e1] = ends(view, p);
-    let mut out = Vec::new();
-    for u in [0.5, 0.3, 0.7, 0.15, 0.85] {
-        let (n, e) = (p.near[0].lerp(p.near[1], u), e0.lerp(e1, u));
-        if let Some((a, b)) = view.clip_line(n, e) {
-            for v in [0.7, 0.55, 0.82, 0.4, 0.9, 0.25, 0.12] {
-                out.push((view.at(a.lerp(b, v)), Anchor::Center));
-            }
-        }
-    }
-    out
-}
-
-/// Whether box `b` lies inside the convex polygon `poly` (pixels).
-fn box_in(b: &Box2, poly: &[(f32, f32)]) -> bool {
-    if poly.len() < 3 {
-        return false;
-    }
-    let corners = [(b[0], b[1]), (b[2], b[1]), (b[2], b[3]), (b[0], b[3])];
-    let side = |p: (f32, f32), q: (f32, f32), x: (f32, f32)| {
-        (q.0 - p.0) * (x.1 - p.1) - (q.1 - p.1) * (x.0 - p.0)
-    };
-    let n = poly.len();
-    let edges = || (0..n).map(|i| (poly[i], poly[(i + 1) % n]));
-    // Either winding: every corner on the same side of every edge as the polygon's inside.
-    [1.0f32, -1.0]
-        .iter()
-        .any(|&s| edges().all(|(p, q)| corners.iter().all(|&x| s * side(p, q, x) >= 0.0)))
-}
-
-/// Candidate places for a segment's name beside it (pixels `a` to `b`): at its middle, then
-/// further along, on the side away from the eye first.
-fn beside(a: (f32, f32), b: (f32, f32), eye: (f32, f32)) -> Vec<((f32, f32), Anchor)> {
-    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
-    let len = dx.hypot(dy).max(1e-3);
-    let (mut nx, mut ny) = (-dy / len, dx / len);
-    let mid = (a.0 + dx / 2.0, a.1 + dy / 2.0);
-    if nx * (mid.0 - eye.0) + ny * (mid.1 - eye.1) < 0.0 {
-        (nx, ny) = (-nx, -ny);
-    }
-    let mut out = Vec::new();
-    for side in [1.0f32, -1.0] {
-        for f in [0.5f32, 0.35, 0.65, 0.2, 0.8, 0.08, 0.92] {
-            let m = (a.0 + dx * f, a.1 + dy * f);
-            let (ox, oy) = (nx * side, ny * side);
-            let anchor = match ox {
-                x if x > 0.35 => Anchor::Left,
-                x if x < -0.35 => Anchor::Right,
-                _ => Anchor::Center,
-            };
-            let gap = if anchor == Anchor::Center { 14.0 } else { 9.0 };
-            out.push(((m.0 + ox * gap, m.1 + oy * gap), anchor));
-        }
-    }
-    out
-}
-
-/// A label on a pale backing, so that the thin lines it falls on do not cross its letters.
-fn label(c: &mut Canvas, at: (f32, f32), text: &str, color: tiny_skia::Color, anchor: Anchor) {
-    let b = text_box(at, text, 12.0, anchor);
-    c.rect(
-        (b[0], b[1]),
-        (b[2] - b[0], b[3] - b[1]),
-        None,
-        Some(style::rgba(255, 255, 255, 210)),
-    );
-    c.text(at, text, 12.0, color, anchor);
 }
 
 #[cfg(test)]
@@ -548,15 +429,5 @@ mod tests {
         let inner = [lo + DVec2::splat(margin), hi - DVec2::splat(margin)];
         assert!(contains(inner, DVec2::new(5.0, -1.0)), "{lo} {hi}");
         assert!(contains(inner, DVec2::new(5.0, 1.0)), "{lo} {hi}");
-    }
-
-    #[test]
-    fn a_box_lies_in_a_convex_polygon_only_when_all_its_corners_do() {
-        let square = [(0.0, 0.0), (10.0, 0.0), (10.0, 10.0), (0.0, 10.0)];
-        assert!(box_in(&[1.0, 1.0, 9.0, 9.0], &square));
-        assert!(!box_in(&[5.0, 5.0, 11.0, 9.0], &square));
-        let mut other = square;
-        other.reverse();
-        assert!(box_in(&[1.0, 1.0, 9.0, 9.0], &other), "either winding");
     }
 }
