@@ -592,3 +592,35 @@ fn a_zero_direction_is_not_called_positive() {
         "{text}"
     );
 }
+
+#[test]
+fn the_key_explains_red_dots_only_when_some_ray_enters() {
+    let culled = figure(&[
+        "--origin",
+        "0,0,-5",
+        "--dir",
+        "0.3,0.05,1",
+        "--bundle-to",
+        "0.6,0.05,1",
+        "--rays",
+        "6",
+    ]);
+    assert!(!has_text(&culled, "Red dots"), "{:?}", culled.texts());
+    assert!(
+        has_text(&culled, "no ray's own slab test enters it"),
+        "{:?}",
+        culled.texts()
+    );
+    let kept = figure(&[
+        "--origin",
+        "0,0,-5",
+        "--dir",
+        "0.1,0.05,1",
+        "--bundle-to",
+        "0.4,0.05,1",
+    ]);
+    assert!(has_text(
+        &kept,
+        "Red dots: where each ray's own slab test says it enters"
+    ));
+}

@@ -89,11 +89,15 @@ pub fn figure(rays: &[Ray], w: &BundleWorking) -> Canvas {
     } else {
         " Without the interval test, each ray's own test decides."
     };
+    // The dots are explained only where there are some.
+    let key = if w.rays.iter().any(|r| r.own) {
+        "Red dots: where each ray's own slab test says it enters. Grey rays miss the box."
+    } else {
+        "Grey rays miss the box: no ray's own slab test enters it."
+    };
     c.text(
         (MARGIN, H - 16.0),
-        &format!(
-            "Red dots: where each ray's own slab test says it enters. Grey rays miss the box.{note}"
-        ),
+        &format!("{key}{note}"),
         11.0,
         style::ink(),
         Anchor::Left,
