@@ -1,7 +1,7 @@
 //! `rtlab render`: the image.
 
 use super::{default_output, RenderArgs};
-use crate::accel::{Traversal, BUNDLE};
+use crate::accel::Traversal;
 use crate::error::{Error, Result};
 use crate::output::{check_not_input, check_png, write_png};
 use crate::sampling::aov::{render_aov, Aov};
@@ -340,6 +340,8 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
                 "count": b.bundles,
                 "nodes_opened": b.opened,
                 "nodes_opened_per_bundle": per_bundle,
+                "rays": b.rays,
+                "most_rays": b.most,
                 "simd": simd_lanes(),
             })
         });
@@ -368,8 +370,15 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
         } else {
             let r = stats.rays;
             let bundle_line = if b.bundles > 0 {
+                // Fewer than sixteen under a coarse --subsample: a tile's traced pixels.
+                let size = if b.most as usize == crate::accel::BUNDLE {
+                    format!("of up to {}", b.most)
+                } else {
+                    let mean = b.rays as f64 / b.bundles as f64;
+                    format!("of {mean:.1} rays on average (up to {})", b.most)
+                };
                 format!(
-                    "camera rays in {} bundles of up to {BUNDLE} ({} lanes): {:.1} nodes opened \
+                    "camera rays in {} bundles {size} ({} lanes): {:.1} nodes opened \
                      per bundle (each once for all its rays)\n",
                     b.bundles,
                     simd_lanes(),

@@ -16,17 +16,22 @@ use glam::{DVec2, DVec3};
 pub const SIDE: u32 = 4;
 const _: () = assert!((SIDE * SIDE) as usize == BUNDLE);
 
-/// Bundles traced and the nodes they opened (each node once per bundle), for `--stats`.
+/// Bundles traced, the nodes they opened (each node once per bundle), the rays they held
+/// and the most rays one held (16, or fewer under a coarse `--subsample`), for `--stats`.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct BundleTally {
     pub bundles: u64,
     pub opened: u64,
+    pub rays: u64,
+    pub most: u32,
 }
 
 impl BundleTally {
     pub fn add(&mut self, o: &BundleTally) {
         self.bundles += o.bundles;
         self.opened += o.opened;
+        self.rays += o.rays;
+        self.most = self.most.max(o.most);
     }
 }
 
@@ -385,6 +390,8 @@ impl BundleHits {
         );
         tally.bundles += 1;
         tally.opened += self.cost.opened as u64;
+        tally.rays += n as u64;
+        tally.most = tally.most.max(n as u32);
     }
 
     /// Ray j's hit and share of the work.

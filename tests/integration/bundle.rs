@@ -651,3 +651,49 @@ fn beam_prints_the_pieces_of_a_clipped_beam_and_draws_them() {
         "{text}"
     );
 }
+
+#[test]
+fn stats_say_how_many_rays_a_subsampled_bundle_held() {
+    // 640×480 at --subsample 8: 81×61 traced pixels in 1200 tiles; the last column and row
+    // are always traced, so the tiles that hold them have three traced lines, not two.
+    let run = |extra: &[&str]| {
+        let out = tmp("stats_subsample.png");
+        let mut args = vec![
+            "render",
+            "scenes/teapot.json",
+            "--no-shadows",
+            "--max-depth",
+            "0",
+        ];
+        args.extend_from_slice(extra);
+        args.extend_from_slice(&["--stats", "-o", out.to_str().unwrap()]);
+        let o = rtlab(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        stderr(&o) + &String::from_utf8_lossy(&o.stdout)
+    };
+    let full = run(&[]);
+    assert!(full.contains("in 19200 bundles of up to 16 ("), "{full}");
+    let k8 = run(&["--subsample", "8"]);
+    assert!(
+        k8.contains("in 1200 bundles of 4.1 rays on average (up to 9)"),
+        "{k8}"
+    );
+    let out = tmp("stats_subsample_json.png");
+    let o = rtlab(&[
+        "render",
+        "scenes/teapot.json",
+        "--no-shadows",
+        "--max-depth",
+        "0",
+        "--subsample",
+        "16",
+        "--stats",
+        "json",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["bundles"]["rays"], 41 * 31);
+    assert_eq!(v["bundles"]["most_rays"], 4);
+    assert_eq!(v["bundles"]["count"], 1200);
+}
