@@ -40,25 +40,32 @@ pub fn check() -> Result<()> {
 /// Cloning shares the flag (cancel a clone, and the original is cancelled). Tokens compare
 /// equal whatever their state: cancelling decides whether a render finishes, never its pixels.
 #[derive(Clone, Default)]
-pub struct Cancel(Option<std::sync::Arc<AtomicBool>>);
+pub struct Cancel(Vec<std::sync::Arc<AtomicBool>>);
 
 impl Cancel {
     /// A fresh token of its own, not cancelled.
     pub fn new() -> Cancel {
-        Cancel(Some(std::sync::Arc::new(AtomicBool::new(false))))
+        Cancel(vec![std::sync::Arc::new(AtomicBool::new(false))])
     }
 
-    /// Asks every render using this token (or a clone of it) to stop. A default token has no
-    /// flag of its own: for it this does nothing (only Ctrl-C stops it).
+    /// A token cancelled when either this one or `other` is (a render that a caller may
+    /// cancel and that a time budget also stops): it watches both flags.
+    pub fn or(&self, other: &Cancel) -> Cancel {
+        Cancel(self.0.iter().chain(&other.0).cloned().collect())
+    }
+
+    /// Asks every render using this token (or a clone of it) to stop: sets every flag it
+    /// watches. A default token has no flag of its own: for it this does nothing (only
+    /// Ctrl-C stops it).
     pub fn cancel(&self) {
-        if let Some(f) = &self.0 {
+        for f in &self.0 {
             f.store(true, Ordering::SeqCst);
         }
     }
 
     /// Has this token been cancelled, or Ctrl-C pressed?
     pub fn is_cancelled(&self) -> bool {
-        requested() || self.0.as_ref().is_some_and(|f| f.load(Ordering::Relaxed))
+        requested() || self.0.iter().any(|f| f.load(Ordering::Relaxed))
     }
 }
 

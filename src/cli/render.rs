@@ -42,7 +42,7 @@ pub struct Args {
     #[arg(long, value_name = "K", allow_negative_numbers = true, value_parser = crate::sampling::progressive::parse_pass)]
     pub passes: Option<u32>,
     /// Progressive rendering for about this long: passes 1, 2, 3, ... until the time is
-    /// spent (a pass after the first is cut off within a pixel's time; pass 1 always
+    /// spent (a pass after the first is cut off within a few rays; pass 1 always
     /// completes, however long it takes); writes the last complete pass (the same bytes as
     /// --passes K, K printed).
     #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
@@ -64,24 +64,40 @@ fn budgeted(
     count: bool,
     quiet: bool,
 ) -> Option<Pass> {
-    // The pass is asked whether to stop before each pixel: a flag that a timer sets is
-    // cheaper to ask than the clock. The timer waits for the budget or for the passes to
-    // end first (`finished` dropped), whichever comes first.
-    let expired = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
-    let timer = expired.clone();
+    // The time is up when `deadline` is cancelled, by a timer thread: a flag is cheaper to
+    // ask than the clock. Every pass's settings watch it, so a running pass stops within
+    // a few rays (the tracer looks every CHECK_EVERY rays, the renderer at every pixel and
+    // every sample of a bundle), as it does for Ctrl-C. The timer first waits for pass 1,
+    // which always completes, then for what is left of the budget, and gives up when the
+    // passes end first (`finished` dropped).
+    let deadline = crate::interrupt::Cancel::new();
+    let timer = deadline.clone();
     let budget = std::time::Duration::from_secs_f64(budget.min(1e9));
-    let (finished, wait) = std::sync::mpsc::channel::<()>();
+    let start = std::time::Instant::now();
+    let (finished, done) = std::sync::mpsc::channel::<u32>();
     let timer = std::thread::spawn(move || {
-        if let Err(std::sync::mpsc::RecvTimeoutError::Timeout) = wait.recv_timeout(budget) {
-            timer.store(true, std::sync::atomic::Ordering::Relaxed);
+        use std::sync::mpsc::RecvTimeoutError::{Disconnected, Timeout};
+        if done.recv().is_err() {
+            return; // no pass completed: Ctrl-C
+        }
+        loop {
+            match done.recv_timeout(budget.saturating_sub(start.elapsed())) {
+                Ok(_) => continue,
+                Err(Timeout) => return timer.cancel(),
+                Err(Disconnected) => return,
+            }
         }
     });
+    let base = crate::scene::RenderSettings {
+        cancel: scene.render.cancel.or(&deadline),
+        ..scene.render.clone()
+    };
     let last = progressive(
         scene,
-        &scene.render,
+        &base,
         count,
         max,
-        &|k| k > 1 && expired.load(std::sync::atomic::Ordering::Relaxed),
+        &|k| k > 1 && deadline.is_cancelled(),
         |p| {
             if !quiet {
                 eprintln!(
@@ -91,6 +107,7 @@ fn budgeted(
                     p.finished
                 );
             }
+            let _ = finished.send(p.index);
         },
     );
     drop(finished);

@@ -128,7 +128,7 @@ impl TilePlan {
 /// `trace(l, (x, y), k, camera)` (the tile's pixel `l`, at (x, y), its sample `k`), which
 /// shades them with the one tracer. `block_done(pixels)` follows each block and says whether
 /// to go on (`false` stops the tile there); a cancelled render (`settings.cancel`) also stops
-/// before the next block.
+/// before the next block, and before the next sample index of a block.
 #[inline(never)] // once per tile; and a profiler sees it whole
 pub fn trace_bundled(
     scene: &Scene,
@@ -154,6 +154,10 @@ pub fn trace_bundled(
         block_pixels(tile, (cols, rows), &mut block);
         let most = block.iter().map(|&(l, _)| plan.samples_of(l)).max();
         for k in 0..most.unwrap_or(0) {
+            // A block holds all its pixels' samples: look again before each sample index.
+            if k > 0 && settings.cancel.is_cancelled() {
+                return;
+            }
             block_samples(plan, &block, k, &mut pixels, &mut samples);
             camera_rays(scene, settings, &samples, &mut cams);
             let cams = &mut cams[..pixels.len()];

@@ -93,7 +93,9 @@ pub struct Pass {
 /// (the next pass would exceed the sample or memory limits) or `stop(k)` says to stop while
 /// pass k is running or before it starts. `stop` is asked before every tile and every pixel
 /// (block of pixels, with bundles) of a pass, so a stopped pass ends within a pixel's time;
-/// its partial image is thrown away. It should be cheap (a flag, not a clock). `each` sees every
+/// its partial image is thrown away. It should be cheap (a flag, not a clock). A pass whose
+/// settings' token (`base.cancel`) is cancelled stops sooner, within a few rays, and is
+/// thrown away too: a time budget sets both. `each` sees every
 /// completed pass as it is done (a progressive preview shows them). Returns the last
 /// completed pass: `None` only if the first one was stopped (or Ctrl-C was pressed).
 ///
@@ -122,6 +124,9 @@ pub fn progressive(
         };
         if crate::interrupt::requested() {
             return None;
+        }
+        if output.cancelled {
+            break; // its settings' token was cancelled (a caller's, or a time budget's)
         }
         let pass = Pass {
             index: k,

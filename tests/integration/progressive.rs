@@ -244,3 +244,74 @@ fn an_unknown_simd_level_is_warned_of() {
     assert!(!stderr(&run).contains("warning"), "{}", stderr(&run));
     assert!(String::from_utf8_lossy(&run.stdout).contains("\"simd\": \"portable\""));
 }
+
+/// A time budget stops a running pass within a few rays, not at the end of a 4×4 block,
+/// which holds every sample of its sixteen pixels: here every sample traces its whole ray
+/// budget (a glass ball inside a glass ball, depth 30, nothing cut for being faint), so a
+/// block of pass 2 takes seconds, and the render must end soon after the budget (or after
+/// pass 1, which always completes), either way.
+#[test]
+fn a_budget_stops_a_pass_inside_a_block() {
+    let scene = tmp("heavy_budget.json");
+    std::fs::write(
+        &scene,
+        r#"{"camera": {"position": [0, 0, 4], "look_at": [0, 0, 0], "width": 8, "height": 8, "fov_y": 30},
+ "render": {"max_depth": 30, "min_contribution": 0, "max_rays": 100000, "spp": 64, "sampler": "grid"},
+ "lights": [{"type": "point", "position": [3, 3, 3], "color": [1, 1, 1]}],
+ "materials": {"glass": {"diffuse": [0.1, 0.1, 0.1], "reflective": [1, 1, 1], "transparent": [1, 1, 1], "ior": 1.5}},
+ "objects": [{"shape": "sphere", "center": [0, 0, 0], "radius": 1, "material": "glass"},
+             {"shape": "sphere", "center": [0.3, 0.2, 0], "radius": 0.3, "material": "glass"}]}"#,
+    )
+    .unwrap();
+    let out = tmp("heavy_budget.png");
+    for traversal in ["bundle", "single"] {
+        let start = std::time::Instant::now();
+        let o = rtlab(&[
+            "render",
+            scene.to_str().unwrap(),
+            "--time-budget",
+            "0.5",
+            "--traversal",
+            traversal,
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        let took = start.elapsed().as_secs_f64();
+        let err = stderr(&o);
+        assert!(o.status.success(), "{err}");
+        assert!(err.contains("passes: 1 "), "{traversal}: {err}");
+        let first: f64 = err
+            .split("pass 1: ")
+            .nth(1)
+            .and_then(|l| l.split(" done at ").nth(1))
+            .and_then(|l| l.split(' ').next())
+            .and_then(|t| t.parse().ok())
+            .unwrap_or_else(|| panic!("{err}"));
+        assert!(
+            took < first.max(0.5) + 1.0,
+            "{traversal}: pass 1 done at {first} s, the budget 0.5 s, the render ended at {took:.2} s"
+        );
+    }
+}
+
+/// A pass whose settings' token is cancelled while it runs is thrown away, not returned as
+/// complete: cancelled once pass 2 is done, pass 3 stops at once and pass 2 is the last.
+#[test]
+fn a_cancelled_pass_is_not_a_completed_one() {
+    let mut scene = scene("scenes/spheres.json");
+    scene.camera.update_size(40, 30);
+    let cancel = rtlab::interrupt::Cancel::new();
+    let base = rtlab::scene::RenderSettings {
+        cancel: scene.render.cancel.or(&cancel),
+        ..scene.render.clone()
+    };
+    let mut seen = Vec::new();
+    let last = progressive(&scene, &base, false, Some(4), &|_| false, |p| {
+        seen.push(p.index);
+        if p.index == 2 {
+            cancel.cancel();
+        }
+    });
+    assert_eq!(last.expect("passes 1 and 2").index, 2);
+    assert_eq!(seen, vec![1, 2]);
+}
