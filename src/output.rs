@@ -34,7 +34,39 @@ pub fn check_writable(path: &Path, arg: &str) -> Result<()> {
             ),
         ));
     }
-    Ok(())
+    // A folder that exists may still refuse files (permissions, a read-only or virtual file
+    // system): find out now, with the temporary file the write would make (removed at once),
+    // rather than after a render of minutes.
+    temporary_in(dir).map(drop).map_err(|e| {
+        // The folder is there, so "not found" means it takes no new files (/proc, /sys).
+        let why = match e.kind() {
+            std::io::ErrorKind::NotFound => "it does not take new files".to_string(),
+            _ => reason(&e),
+        };
+        Error::arg(
+            arg,
+            format!(
+                "cannot write {}: cannot write into the folder {}: {why}",
+                path.display(),
+                dir.display(),
+            ),
+        )
+    })
+}
+
+/// A new temporary file in `dir`, hidden and named so that it is recognisably rtlab's, with
+/// the usual mode of a new file.
+fn temporary_in(dir: &Path) -> std::io::Result<tempfile::NamedTempFile> {
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".rtlab-").suffix(".tmp");
+    // tempfile creates files 0600; an output file should get the usual mode (0666 less
+    // the umask, applied by open(2)), like any file a command writes.
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        builder.permissions(std::fs::Permissions::from_mode(0o666));
+    }
+    builder.tempfile_in(dir)
 }
 
 /// Refuses to write over one of the command's own inputs: `inputs` holds each input's path
@@ -119,16 +151,7 @@ fn parent(path: &Path) -> &Path {
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     crate::interrupt::check()?;
     let dir = parent(path);
-    let mut builder = tempfile::Builder::new();
-    builder.prefix(".rtlab-").suffix(".tmp");
-    // tempfile creates files 0600; an output file should get the usual mode (0666 less
-    // the umask, applied by open(2)), like any file a command writes.
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::PermissionsExt;
-        builder.permissions(std::fs::Permissions::from_mode(0o666));
-    }
-    let mut tmp = builder.tempfile_in(dir).map_err(|e| {
+    let mut tmp = temporary_in(dir).map_err(|e| {
         Error::io(
             path,
             format!(

@@ -451,7 +451,11 @@ fn cases() -> Vec<Case> {
             "output folder that refuses new files",
             s(obj(SPHERE)),
             vec!["render", "scene.json", "-o", "/proc/rtlab-test.png", "--quiet"],
-            vec!["/proc/rtlab-test.png", "cannot write into the folder /proc"],
+            vec![
+                "argument -o",
+                "/proc/rtlab-test.png",
+                "cannot write into the folder /proc: it does not take new files",
+            ],
         ),
         c(
             "output format rtlab cannot write",

@@ -315,3 +315,24 @@ fn a_cancelled_pass_is_not_a_completed_one() {
     assert_eq!(last.expect("passes 1 and 2").index, 2);
     assert_eq!(seen, vec![1, 2]);
 }
+
+/// An output folder that takes no files is found before the budget is spent, not after:
+/// one line, exit 2, and no pass traced.
+#[test]
+fn an_unwritable_output_is_refused_before_the_budget_runs() {
+    let o = rtlab(&[
+        "render",
+        path("scenes/spheres.json").to_str().unwrap(),
+        "--time-budget",
+        "30",
+        "-o",
+        "/proc/rtlab-budget.png",
+    ]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(
+        err.contains("argument -o") && err.contains("cannot write into the folder /proc"),
+        "{err}"
+    );
+}
