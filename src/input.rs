@@ -3,7 +3,18 @@
 //! clear error rather than a process the system kills for taking all its memory.
 
 use std::io::Read;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+/// Every file this process has opened through [`read_limited`] (scenes, course files,
+/// meshes, textures, images), once each: a command checks its outputs against them
+/// ([`crate::output::check_not_read`]), so that it never writes over one of its own inputs.
+static READ: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// The files read so far ([`READ`]).
+pub fn files_read() -> Vec<PathBuf> {
+    READ.lock().map(|r| r.clone()).unwrap_or_default()
+}
 
 /// The most a text file of settings may hold: a native scene, a course `.ini` or XML
 /// scenefile, a solid's spec (the biggest in `scenes/` and the course's are under 100 KiB).
@@ -18,6 +29,11 @@ pub const IMAGE_LIMIT: u64 = 1 << 30;
 /// or a device) is an error of kind `InvalidData` that says so.
 pub fn read_limited(path: &Path, limit: u64) -> std::io::Result<Vec<u8>> {
     let file = std::fs::File::open(path)?;
+    if let Ok(mut read) = READ.lock() {
+        if !read.iter().any(|p| p == path) {
+            read.push(path.to_path_buf());
+        }
+    }
     let meta = file.metadata()?;
     let too_big = || {
         std::io::Error::new(

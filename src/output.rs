@@ -90,6 +90,49 @@ pub fn check_not_input(path: &Path, arg: &str, inputs: &[(&Path, &str)]) -> Resu
     Ok(())
 }
 
+/// Refuses to write over a file the command has read ([`crate::input::files_read`]): a
+/// mesh or a texture the scene names, not only the scene itself.
+pub fn check_not_read(path: &Path, arg: &str) -> Result<()> {
+    let read = crate::input::files_read();
+    let what: Vec<String> = read
+        .iter()
+        .map(|p| match p == path {
+            true => "a file the scene reads".to_string(),
+            false => format!("{}, a file the scene reads", p.display()),
+        })
+        .collect();
+    let inputs: Vec<(&Path, &str)> = read
+        .iter()
+        .zip(&what)
+        .map(|(p, w)| (p.as_path(), w.as_str()))
+        .collect();
+    check_not_input(path, arg, &inputs)
+}
+
+/// Refuses to write two of a command's outputs to one file (`outputs`: each path and its
+/// argument), where the second would silently replace the first. Names are compared as
+/// paths in their folders, so `a.png` and `./a.png` are one file, existing or not.
+pub fn check_distinct(outputs: &[(&Path, &str)]) -> Result<()> {
+    let key = |p: &Path| {
+        let dir = std::fs::canonicalize(parent(p)).unwrap_or_else(|_| parent(p).to_path_buf());
+        dir.join(p.file_name().unwrap_or_default())
+    };
+    for (i, (a, arg_a)) in outputs.iter().enumerate() {
+        for (b, arg_b) in &outputs[..i] {
+            if key(a) == key(b) {
+                return Err(Error::arg(
+                    *arg_a,
+                    format!(
+                        "{} is also {arg_b}'s file: one would replace the other (choose another name)",
+                        a.display()
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// What makes a file the same file under any name.
 #[cfg(unix)]
 fn identity(path: &Path) -> Option<(u64, u64)> {

@@ -214,6 +214,9 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
         ..RenderArgs::default()
     };
     let scene = base.load(&args.scene)?;
+    if let Some(o) = &args.output {
+        crate::output::check_not_read(o, "-o")?; // a texture or mesh of the scene
+    }
     // The reference is the largest render compare makes.
     let most = args.spp.iter().copied().chain([args.reference_spp]).max();
     base.check_memory(&scene, &args.scene, most.unwrap_or(1))?;

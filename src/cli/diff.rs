@@ -80,6 +80,9 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<Outcome> {
     let yours = png::read_rgb8(&args.yours)?;
     let reference = args.reference.as_deref().map(png::read_rgb8).transpose()?;
     let scene = args.render.load(&args.scene)?;
+    if let Some(o) = &args.output {
+        crate::output::check_not_read(o, "-o")?; // a texture or mesh of the scene
+    }
     let (w, h) = (scene.camera.width, scene.camera.height);
     let expected = match (&reference, &args.reference) {
         (Some(r), Some(path)) => {

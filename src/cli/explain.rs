@@ -64,16 +64,22 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
             ),
         )
     })?;
-    for (d, arg) in [
+    let diagrams: Vec<(&std::path::Path, &str)> = [
         (&args.diagram, "--diagram"),
         (&args.bundle_diagram, "--bundle-diagram"),
-    ] {
-        if let Some(d) = d {
-            crate::output::check_png(d, arg)?;
-            crate::output::check_not_input(d, arg, &[(&args.scene, "the scene")])?;
-        }
+    ]
+    .into_iter()
+    .filter_map(|(d, arg)| Some((d.as_deref()?, arg)))
+    .collect();
+    for &(d, arg) in &diagrams {
+        crate::output::check_png(d, arg)?;
+        crate::output::check_not_input(d, arg, &[(&args.scene, "the scene")])?;
     }
+    crate::output::check_distinct(&diagrams)?;
     let scene = args.render.load(&args.scene)?;
+    for &(d, arg) in &diagrams {
+        crate::output::check_not_read(d, arg)?; // a texture or mesh of the scene
+    }
     let (x, y) = parse_pixel(&args.pixel, scene.camera.width, scene.camera.height)?;
     let mut e = explain(&scene, x, y);
     // Ctrl-C inside a huge tree cuts it short: print nothing rather than a partial tree.

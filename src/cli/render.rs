@@ -230,6 +230,7 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
         _ => "-o",
     };
     check_not_input(&out, out_arg, &[(&args.scene, "the scene")])?;
+    crate::output::check_not_read(&out, out_arg)?; // a texture or mesh of the scene
     render_args.warn(&loaded.warnings);
     let mut scene = loaded.scene;
     if let Some(aov) = aov {

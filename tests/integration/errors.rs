@@ -79,6 +79,7 @@ fn cases() -> Vec<Case> {
         ]
     };
     let png_header = b"\x89PNG\r\n\x1a\n\0\0\0\rIHDR\0\0\0\x08".to_vec();
+    let one_texel = rtlab::output::png_bytes(&image::RgbImage::new(1, 1)).unwrap();
     vec![
         // ---- the scene file itself
         c("scene file missing", vec![], render("nope.json"), vec!["nope.json", "no such file"]),
@@ -456,6 +457,18 @@ fn cases() -> Vec<Case> {
                 "/proc/rtlab-test.png",
                 "cannot write into the folder /proc: it does not take new files",
             ],
+        ),
+        c(
+            "output is a texture the scene reads",
+            texture(&one_texel),
+            vec!["render", "scene.json", "-o", "./t.png", "--quiet"],
+            vec!["argument -o", "./t.png is t.png, a file the scene reads", "would destroy it"],
+        ),
+        c(
+            "two figures of explain named alike",
+            s(obj(SPHERE)),
+            vec!["explain", "scene.json", "--pixel", "1,1", "--diagram", "f.png", "--bundle-diagram", "./f.png"],
+            vec!["argument --bundle-diagram", "./f.png is also --diagram's file"],
         ),
         c(
             "output format rtlab cannot write",
