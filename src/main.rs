@@ -12,7 +12,18 @@ static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 fn main() -> ExitCode {
     rtlab::interrupt::install();
-    let cli = rtlab::cli::Cli::parse(); // usage errors exit with status 2 from clap
+    let cli = match rtlab::cli::Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => match rtlab::cli::refused_value(&e) {
+            // A value rtlab's own parser refused: one line, as every other bad input.
+            Some(line) => {
+                eprintln!("error: {}", rtlab::error::printable(&line));
+                return ExitCode::from(2);
+            }
+            // Usage errors (status 2), --help and --version (status 0): clap's own words.
+            None => e.exit(),
+        },
+    };
     if let Err(v) = rtlab::accel::isa::simd_cap() {
         eprintln!(
             "warning: RTLAB_SIMD={} names no SIMD level (base or portable, avx2, avx512): ignored, the widest this processor has is used",

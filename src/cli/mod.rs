@@ -19,6 +19,7 @@ pub mod samples;
 pub mod schema;
 pub mod serve;
 pub mod steps;
+mod usage;
 pub mod validate;
 
 use crate::error::{Error, Result};
@@ -28,6 +29,7 @@ use std::io::Write;
 use std::path::PathBuf;
 
 pub use render_args::RenderArgs;
+pub use usage::{refused_value, usage_line};
 
 #[derive(Debug, Parser)]
 #[command(

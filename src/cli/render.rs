@@ -45,7 +45,7 @@ pub struct Args {
     /// spent (a pass after the first is cut off within a few rays; pass 1 always
     /// completes, however long it takes); writes the last complete pass (the same bytes as
     /// --passes K, K printed).
-    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
+    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true, value_parser = crate::sampling::progressive::parse_seconds)]
     pub time_budget: Option<f64>,
 }
 
@@ -173,19 +173,11 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
         None => None,
         Some(name) => Some(Aov::parse_arg(name)?),
     };
-    if let Some(t) = args.time_budget {
-        if !(t.is_finite() && t > 0.0) {
-            return Err(Error::arg(
-                "--time-budget",
-                format!("{t} is not a time (expected seconds > 0, e.g. 2.5)"),
-            ));
-        }
-        if aov.is_some() {
-            return Err(Error::arg(
-                "--time-budget",
-                "cannot be combined with --aov (use --passes K for an AOV of pass K)",
-            ));
-        }
+    if args.time_budget.is_some() && aov.is_some() {
+        return Err(Error::arg(
+            "--time-budget",
+            "cannot be combined with --aov (use --passes K for an AOV of pass K)",
+        ));
     }
     let suffix = aov.map(|a| format!("-{}", a.name())).unwrap_or_default();
     if let Some(o) = &args.output {

@@ -52,12 +52,9 @@ pub fn loader(scene: PathBuf, base: RenderArgs) -> Loader {
         let mut a = RequestArgs {
             render: base.clone(),
         };
-        a.try_update_from(words).map_err(|e| {
-            // The first line of what the CLI prints, without its "error: ".
-            let text = e.render().to_string();
-            let line = text.lines().next().unwrap_or("bad render option");
-            Error::Other(line.trim_start_matches("error: ").to_string())
-        })?;
+        // The line the CLI prints, without its "error: ".
+        a.try_update_from(words)
+            .map_err(|e| Error::Other(super::usage::usage_line(&e)))?;
         // The server reads its scene again whenever it changes: a pipe or a device there
         // would block the read (and the watcher behind it) until something writes to it.
         if std::fs::metadata(&scene).is_ok_and(|m| !m.is_file() && !m.is_dir()) {

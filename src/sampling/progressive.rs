@@ -59,12 +59,29 @@ pub fn pass_settings(
 
 /// A pass number as typed (`--passes K`, the server's `pass=K`): 1 or more.
 pub fn parse_pass(s: &str) -> Result<u32, String> {
-    match s.trim().parse::<i64>() {
+    let t = s.trim();
+    let whole = !t.is_empty()
+        && t.trim_start_matches(['+', '-'])
+            .bytes()
+            .all(|b| b.is_ascii_digit());
+    match t.parse::<i64>() {
         Ok(k) if k < 1 => Err("passes are numbered from 1".into()),
-        Ok(k) => {
-            u32::try_from(k).map_err(|_| format!("{k} is not a pass number (at most {})", u32::MAX))
-        }
-        Err(_) => Err(format!("\"{s}\" is not a pass number (1, 2, 3, ...)")),
+        Err(_) if whole && t.starts_with('-') => Err("passes are numbered from 1".into()),
+        Ok(_) | Err(_) if whole => t
+            .trim_start_matches('+')
+            .parse::<u32>()
+            .map_err(|_| format!("{t} is not a pass number (at most {})", u32::MAX)),
+        _ => Err(format!("\"{s}\" is not a pass number (1, 2, 3, ...)")),
+    }
+}
+
+/// `--time-budget`'s seconds: a finite number above 0, said back as typed when it is not.
+pub fn parse_seconds(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(t) if t.is_finite() && t > 0.0 => Ok(t),
+        _ => Err(format!(
+            "\"{s}\" is not a time (expected seconds > 0, e.g. 2.5)"
+        )),
     }
 }
 

@@ -567,7 +567,7 @@ fn cases() -> Vec<Case> {
             "--max-depth not a number",
             s(obj(SPHERE)),
             vec!["render", "scene.json", "-o", "good.png", "--max-depth", "deep"],
-            vec!["--max-depth", "invalid digit"],
+            vec!["argument --max-depth", "\"deep\" is not a whole number"],
         ),
         c(
             "misspelled --sampler value",
@@ -789,7 +789,7 @@ fn cases() -> Vec<Case> {
             "a time budget of no time",
             s(obj(SPHERE)),
             vec!["render", "scene.json", "--time-budget", "0"],
-            vec!["argument --time-budget", "0 is not a time", "seconds > 0"],
+            vec!["argument --time-budget", "\"0\" is not a time", "seconds > 0"],
         ),
         c(
             "a time budget for an AOV",

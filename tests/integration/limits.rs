@@ -386,7 +386,7 @@ fn a_budget_of_zero_rays_is_refused() {
     let o = rtlab(&["render", &scene, "-o", "x.png", "--max-rays", "0"]);
     assert_eq!(o.status.code(), Some(2));
     assert!(
-        stderr(&o).contains("'--max-rays <N>': must be at least 1"),
+        stderr(&o).contains("argument --max-rays: must be at least 1"),
         "{}",
         stderr(&o)
     );
