@@ -52,7 +52,10 @@ pub fn text(scene: &Scene, e: &Explanation) -> String {
         r.sampler.name(),
         r.filter.name(),
         if r.subsample > 1 {
-            format!(", only every {}th pixel traced (--subsample)", r.subsample)
+            format!(
+                ", only every {} pixel traced (--subsample)",
+                crate::report::ordinal(r.subsample)
+            )
         } else {
             String::new()
         }

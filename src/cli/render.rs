@@ -403,9 +403,11 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
             };
             // A budgeted render's counts are its last pass's (the image written), not the sum.
             let of_pass = match (args.time_budget, reached) {
+                (Some(_), Some((1, _))) => "pass 1 (the image written): ".to_string(),
                 (Some(_), Some((k, _))) => {
                     format!("pass {k} (the image written; earlier passes not counted): ")
                 }
+                (None, Some((k, _))) => format!("pass {k}: "), // --passes K traces pass K only
                 _ => String::new(),
             };
             eprintln!(

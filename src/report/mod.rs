@@ -17,6 +17,18 @@ pub fn shell_word(s: &str) -> String {
     }
 }
 
+/// 1st, 2nd, 3rd, 4th, …, 11th, 12th, 13th, …, 21st.
+pub fn ordinal(n: u32) -> String {
+    let suffix = match (n % 10, n % 100) {
+        (_, 11..=13) => "th",
+        (1, _) => "st",
+        (2, _) => "nd",
+        (3, _) => "rd",
+        _ => "th",
+    };
+    format!("{n}{suffix}")
+}
+
 /// A count with thousands separated: 33246 → "33,246".
 pub fn thousands(n: u64) -> String {
     let s = n.to_string();

@@ -238,3 +238,25 @@ fn explain_equals_render_for_every_sampler_and_filter() {
         }
     }
 }
+
+/// The heading says which pixels a subsampled render traces in words: "every 3rd", not "3th".
+#[test]
+fn the_heading_counts_subsampled_pixels_in_english() {
+    for (k, word) in [
+        (2, "every 2nd pixel"),
+        (3, "every 3rd pixel"),
+        (4, "every 4th pixel"),
+    ] {
+        let o = rtlab(&[
+            "explain",
+            "scenes/spheres.json",
+            "--pixel",
+            "0,0",
+            "--subsample",
+            &k.to_string(),
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let text = String::from_utf8_lossy(&o.stdout);
+        assert!(text.contains(word), "{k}: {text}");
+    }
+}

@@ -336,3 +336,38 @@ fn an_unwritable_output_is_refused_before_the_budget_runs() {
         "{err}"
     );
 }
+
+/// `--passes K --stats` names the pass it counts, as a budgeted render does; a budget that
+/// wrote pass 1 does not speak of earlier passes.
+#[test]
+fn stats_name_the_pass() {
+    let scene = path("scenes/spheres.json");
+    let out = tmp("stats-pass.png");
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "render",
+            scene.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let o = rtlab(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        String::from_utf8_lossy(&o.stdout).to_string() + &stderr(&o)
+    };
+    let three = run(&[
+        "--passes", "3", "--stats", "--width", "32", "--height", "24",
+    ]);
+    assert!(three.contains("pass 3: rays: "), "{three}");
+    let one = run(&[
+        "--time-budget",
+        "1e-9",
+        "--stats",
+        "--width",
+        "32",
+        "--height",
+        "24",
+    ]);
+    assert!(one.contains("pass 1 (the image written): rays: "), "{one}");
+    assert!(!one.contains("earlier passes"), "{one}");
+}

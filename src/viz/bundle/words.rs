@@ -3,6 +3,7 @@
 
 use crate::accel::FEW;
 use crate::math::Ray;
+use crate::report::ordinal;
 use crate::viz::canvas::Canvas;
 use glam::DVec3;
 
@@ -164,18 +165,6 @@ pub(super) fn pixels_caption(pixels: &[(u32, u32)]) -> String {
         n if n == xs.len() * ys.len() => format!("pixels {within}"),
         n => format!("{n} pixels within {within}"),
     }
-}
-
-/// 1st, 2nd, 3rd, 4th, …, 11th, 12th, 13th, …, 21st.
-pub(super) fn ordinal(n: u32) -> String {
-    let suffix = match (n % 10, n % 100) {
-        (_, 11..=13) => "th",
-        (1, _) => "st",
-        (2, _) => "nd",
-        (3, _) => "rd",
-        _ => "th",
-    };
-    format!("{n}{suffix}")
 }
 
 /// Which side of the figure the rays come in from (object-space x right, z down): the
