@@ -185,7 +185,7 @@ impl RenderArgs {
     /// not fit in memory; the message names the arguments when they set the size.
     pub fn check_memory(&self, scene: &Scene, path: &std::path::Path, spp: u32) -> Result<()> {
         let (w, h) = (scene.camera.width, scene.camera.height);
-        crate::sampling::check_memory(w, h, spp).map_err(|m| {
+        crate::sampling::check_memory(w, h, spp, scene.render.subsample).map_err(|m| {
             if self.width.is_some() || self.height.is_some() || self.spp.is_some() {
                 Error::arg("--width/--height/--spp", m)
             } else {

@@ -408,15 +408,23 @@ impl Firsts {
     }
 }
 
-/// Bytes a render of `width`×`height` at `spp` samples per pixel holds at its peak: every
-/// sample kept for reconstruction (film position and colour), each pixel's sample list, the
-/// linear image, the 8-bit image and its PNG encoding.
-pub fn memory_needed(width: u32, height: u32, spp: u32) -> u64 {
-    let per_pixel = std::mem::size_of::<PixelSample>() as u64 * spp as u64
-        + std::mem::size_of::<Vec<PixelSample>>() as u64
+/// Bytes a render of `width`×`height` at `spp` samples per pixel, tracing every
+/// `subsample`-th pixel ([`super::sampler::traces_samples`]), holds at its peak: every
+/// sample of a traced pixel kept for reconstruction (film position and colour), and for
+/// every pixel its sample list, the linear image, the 8-bit image and its PNG encoding.
+pub fn memory_needed(width: u32, height: u32, spp: u32, subsample: u32) -> u64 {
+    let per_pixel = std::mem::size_of::<Vec<PixelSample>>() as u64
         + 2 * std::mem::size_of::<DVec3>() as u64
         + 2 * 3;
-    width as u64 * height as u64 * per_pixel
+    let per_traced = std::mem::size_of::<PixelSample>() as u64 * spp as u64;
+    let traced = traced_lines(width, subsample) * traced_lines(height, subsample);
+    width as u64 * height as u64 * per_pixel + traced * per_traced
+}
+
+/// How many of `n` columns (or rows) trace under `--subsample k`: every k-th, and the last.
+fn traced_lines(n: u32, k: u32) -> u64 {
+    let k = k.max(1);
+    (n.div_ceil(k) + u32::from(n > 0 && (n - 1) % k != 0)) as u64
 }
 
 /// The most memory a render may take ([`check_memory`]).
@@ -424,8 +432,8 @@ pub const MEMORY_BUDGET: u64 = 8 << 30;
 
 /// Refuses, before anything is allocated, a render that would need more than
 /// [`MEMORY_BUDGET`], saying how much it would need.
-pub fn check_memory(width: u32, height: u32, spp: u32) -> Result<(), String> {
-    let need = memory_needed(width, height, spp);
+pub fn check_memory(width: u32, height: u32, spp: u32, subsample: u32) -> Result<(), String> {
+    let need = memory_needed(width, height, spp, subsample);
     if need > MEMORY_BUDGET {
         let gib = |b: u64| b as f64 / (1u64 << 30) as f64;
         return Err(format!(

@@ -438,3 +438,37 @@ fn a_storyboard_of_a_huge_tree_is_refused_with_the_limit_and_the_way_out() {
     let out = String::from_utf8_lossy(&o.stdout);
     assert!(out.contains("cut: ray budget reached"), "{out}");
 }
+
+/// The memory a render needs counts the samples of the pixels it traces: under
+/// `--subsample 64` a 120×90 image traces 3×3 pixels, so 16,384 samples each fit easily,
+/// where the same samples at every pixel would not.
+#[test]
+fn the_memory_estimate_counts_only_the_traced_pixels() {
+    use rtlab::sampling::{memory_needed, MEMORY_BUDGET};
+    let every = memory_needed(120, 90, 16384, 1);
+    let sub = memory_needed(120, 90, 16384, 64);
+    assert!(
+        every > MEMORY_BUDGET && sub < MEMORY_BUDGET / 100,
+        "{every} {sub}"
+    );
+    // 3 traced columns of 120 (0, 64 and the last, 119), 3 rows of 90 (0, 64, 89).
+    let per_sample = (every - memory_needed(120, 90, 16383, 1)) / (120 * 90);
+    assert_eq!(every - sub, (120 * 90 - 9) * 16384 * per_sample);
+    let o = rtlab(&[
+        "render",
+        "scenes/whitted.json",
+        "--width",
+        "120",
+        "--height",
+        "90",
+        "--subsample",
+        "64",
+        "--spp",
+        "16384",
+        "--sampler",
+        "grid",
+        "-o",
+        tmp("sub64.png").to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+}
