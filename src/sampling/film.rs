@@ -424,7 +424,7 @@ pub fn memory_needed(width: u32, height: u32, spp: u32, subsample: u32) -> u64 {
 /// How many of `n` columns (or rows) trace under `--subsample k`: every k-th, and the last.
 fn traced_lines(n: u32, k: u32) -> u64 {
     let k = k.max(1);
-    (n.div_ceil(k) + u32::from(n > 0 && (n - 1) % k != 0)) as u64
+    (n.div_ceil(k) + u32::from(n > 0 && !(n - 1).is_multiple_of(k))) as u64
 }
 
 /// The most memory a render may take ([`check_memory`]).
