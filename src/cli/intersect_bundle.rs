@@ -14,8 +14,8 @@
 //! (added later; fields are only ever added) is `[bool; 3]`, x, y, z: false for an axis
 //! along which the directions change sign; `sign_coherent` is all three.
 
+use super::emit;
 use super::intersect_args::{bounded_vec3, box_corners, direction, Args, MIN_LENGTH};
-use super::{emit, parse_list};
 use crate::accel::{bundle_working, BundleWorking, BUNDLE};
 use crate::error::{Error, Result};
 use crate::math::Ray;
@@ -46,16 +46,15 @@ pub fn bundle_and_box(args: &Args, to: &str) -> Result<(Vec<Ray>, Aabb)> {
     }
     let n = match &args.rays {
         None => BUNDLE,
-        Some(s) => {
-            let x = parse_list("--rays", s, 1)?[0];
-            if x.fract() != 0.0 || !(2.0..=BUNDLE as f64).contains(&x) {
+        Some(s) => match s.trim().parse::<usize>() {
+            Ok(n) if (2..=BUNDLE).contains(&n) => n,
+            _ => {
                 return Err(Error::arg(
                     "--rays",
-                    format!("a bundle holds 2 to {BUNDLE} rays, not {s}"),
-                ));
+                    format!("\"{s}\" is not a number of rays: a bundle holds a whole number from 2 to {BUNDLE}"),
+                ))
             }
-            x as usize
-        }
+        },
     };
     // The walk's tests run in f32: numbers as large as a scene may hold (its loader's
     // limit), and directions long enough that 1/d is a number.

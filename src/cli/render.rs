@@ -279,8 +279,10 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
         bar.enable_steady_tick(std::time::Duration::from_millis(200));
         bar
     });
-    // The pass a budgeted render reached (number, spp), for the stats.
-    let mut reached = args.passes.map(|k| (k, scene.render.spp));
+    // The pass a budgeted render reached (number, spp, subsample), for the stats.
+    let mut reached = args
+        .passes
+        .map(|k| (k, scene.render.spp, scene.render.subsample));
     let result = if let Some(budget) = args.time_budget {
         let pass = threads.run(|| {
             budgeted(
@@ -305,7 +307,7 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
             describe(&pass.settings),
             k = pass.index
         );
-        reached = Some((pass.index, pass.settings.spp));
+        reached = Some((pass.index, pass.settings.spp, pass.settings.subsample));
         pass.output
     } else {
         threads.run(|| render(&scene, &scene.render, stats_format.is_some(), bar.as_ref()))
@@ -335,6 +337,7 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
     write_png(&out, &result.image.to_rgb8_for(&scene.render))?;
 
     let spp = reached.map_or(scene.render.spp, |r| r.1);
+    let subsample = reached.map_or(scene.render.subsample, |r| r.2);
     let passes = reached.map(|r| json!(r.0));
     if let (Some(format), Some(stats)) = (stats_format, &result.stats) {
         let trace = result.trace_seconds;
@@ -355,6 +358,10 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
                 "simd": simd_lanes(),
             })
         });
+        // Why the camera rays went alone although bundles were asked for (JSON; the text
+        // says it in words below).
+        let alone = crate::sampling::bundles::alone_because(&scene.render)
+            .filter(|_| scene.render.traversal == Traversal::Bundle);
         if format == "json" {
             let v = json!({
                 "rays": stats.rays,
@@ -363,11 +370,13 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
                 "bvh_nodes_per_ray": stats.nodes as f64 / stats.rays.total.max(1) as f64,
                 "traversal": traversal,
                 "bundles": bundles,
+                "bundles_alone_because": alone,
                 "seconds": {"load": load, "build": build, "trace": trace},
                 "mrays_per_s": mrays,
                 "width": scene.camera.width,
                 "height": scene.camera.height,
                 "spp": spp,
+                "subsample": subsample,
                 "passes": passes,
                 "output": out.display().to_string(),
             });
@@ -403,11 +412,11 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
             };
             // A budgeted render's counts are its last pass's (the image written), not the sum.
             let of_pass = match (args.time_budget, reached) {
-                (Some(_), Some((1, _))) => "pass 1 (the image written): ".to_string(),
-                (Some(_), Some((k, _))) => {
+                (Some(_), Some((1, ..))) => "pass 1 (the image written): ".to_string(),
+                (Some(_), Some((k, ..))) => {
                     format!("pass {k} (the image written; earlier passes not counted): ")
                 }
-                (None, Some((k, _))) => format!("pass {k}: "), // --passes K traces pass K only
+                (None, Some((k, ..))) => format!("pass {k}: "), // --passes K traces pass K only
                 _ => String::new(),
             };
             eprintln!(

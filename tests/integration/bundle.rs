@@ -337,6 +337,31 @@ fn stats_say_why_no_bundles_were_traced() {
         !err.contains("no bundles") && err.contains("bundles of up to"),
         "{err}"
     );
+    // JSON says it too, and with which subsample the pass written was traced.
+    let json = |extra: &[&str]| -> serde_json::Value {
+        let mut args = vec!["render", "scenes/teapot.json", "-o", out.to_str().unwrap()];
+        args.extend(["--width", "32", "--height", "24", "--stats", "json"]);
+        args.extend(extra);
+        let o = rtlab(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        serde_json::from_slice(&o.stdout).unwrap()
+    };
+    let v = json(&["--sampler", "adaptive"]);
+    assert!(v["bundles"].is_null(), "{v}");
+    assert!(
+        v["bundles_alone_because"]
+            .as_str()
+            .unwrap()
+            .contains("adaptive sampler"),
+        "{v}"
+    );
+    let v = json(&["--passes", "1"]);
+    assert!(v["bundles_alone_because"].is_null() && v["bundles"]["count"].as_u64() > Some(0));
+    assert_eq!(
+        (v["passes"].as_u64(), v["subsample"].as_u64()),
+        (Some(1), Some(4)),
+        "{v}"
+    );
 }
 
 /// Bundles find each ray's own closest face, bit for bit, where the order of the tests could

@@ -642,7 +642,7 @@ fn cases() -> Vec<Case> {
             "a bundle of 17 rays",
             vec![],
             vec!["intersect", "box", "--origin", "0,0,-5", "--dir", "0,0,1", "--bundle-to", "0.1,0,1", "--rays", "17"],
-            vec!["--rays", "a bundle holds 2 to 16 rays, not 17"],
+            vec!["--rays", "\"17\" is not a number of rays", "a whole number from 2 to 16"],
         ),
         c(
             "--rays without a bundle",
