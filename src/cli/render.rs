@@ -27,7 +27,9 @@ pub struct Args {
     /// Print ray counts and timings: text (default) on stderr, or json on stdout.
     #[arg(long, value_name = "text|json", num_args = 0..=1, default_missing_value = "text")]
     pub stats: Option<String>,
-    /// No progress bar.
+    /// Print less: no progress bar, no warnings about the scene file, no line per pass, no
+    /// AOV legend and no "wrote" line (errors, --stats and the pass a budget reached still
+    /// print).
     #[arg(long, short)]
     pub quiet: bool,
     /// Write an arbitrary output variable instead of the colour: depth, normal, albedo,
