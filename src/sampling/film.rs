@@ -271,6 +271,11 @@ fn render_with<R: Tally>(
                     let before = work(&rec);
                     kept.push_pixel_with(&mut scratch, |out| {
                         sample_pixel_into(settings, w, h, x, y, out, |k, film| {
+                            // A pixel may hold thousands of samples: a cancelled render (a
+                            // spent time budget) traces none of the rest; it is thrown away.
+                            if settings.cancel.is_cancelled() {
+                                return DVec3::ZERO;
+                            }
                             let mut camera = camera_ray(scene, settings, x, y, k, film);
                             let r = trace_camera(scene, settings, &mut camera, None, &mut rec);
                             firsts.note(&r, (x, y, k))
