@@ -464,3 +464,21 @@ fn bundle_of_is_the_bundle_the_render_traces() {
         }
     }
 }
+
+/// A bundle whose rays all pass beside the mesh's box (seen from above) leaves the panels
+/// without a line: they say so instead of staying blank, readably (texts_fit), and a
+/// bundle whose rays cross the view does not.
+#[test]
+fn panels_the_rays_do_not_cross_say_so() {
+    let whitted = scene("scenes/whitted.json");
+    let beside = rtlab::viz::bundle::draw(&whitted, 100, 100, 0).unwrap();
+    let said = beside
+        .texts()
+        .iter()
+        .filter(|t| t.contains("No ray of the bundle crosses this view"))
+        .count();
+    assert_eq!(said, 2, "one per panel: {:?}", beside.texts());
+    texts_fit(&beside);
+    let through = rtlab::viz::bundle::draw(&scene_teapot(), 320, 240, 0).unwrap();
+    assert!(!through.texts().join(" ").contains("No ray of the bundle"));
+}

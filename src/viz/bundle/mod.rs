@@ -235,7 +235,29 @@ pub fn draw(scene: &Scene, x: u32, y: u32, k: u32) -> Result<Canvas, String> {
                 }
             }
         }
-        view.rays(&mut c, &rays, &hits, b.centroid());
+        if view.rays(&mut c, &rays, &hits, b.centroid()) == 0 {
+            // Nothing of the bundle in the panel: say where it went rather than leave it blank.
+            let why = "No ray of the bundle crosses this view: seen from above, all its rays \
+                       pass beside the mesh's box, so every one misses it.";
+            let lines = wrap(why, NOTE, view.size.0 - 24.0);
+            let (cx, cy) = (view.at.0 + view.size.0 * 0.5, view.at.1 + view.size.1 * 0.5);
+            for (i, line) in lines.iter().enumerate() {
+                let at = (
+                    cx,
+                    cy + NOTE_STEP * (i as f32 - (lines.len() - 1) as f32 * 0.5),
+                );
+                // On a pale backing: the culled boxes' dashes run under it.
+                let [x0, y0, x1, y1] = crate::viz::labels::text_box(at, line, NOTE, Anchor::Center);
+                let backing = (x1 - x0 + 8.0, y1 - y0 + 2.0);
+                c.rect(
+                    (x0 - 4.0, y0 - 1.0),
+                    backing,
+                    None,
+                    Some(style::rgba(255, 255, 255, 225)),
+                );
+                c.text(at, line, NOTE, style::ink(), Anchor::Center);
+            }
+        }
     }
 
     // Title, legend and footers.
@@ -399,8 +421,15 @@ impl Panel {
 
     /// The rays, from where they enter the panel to their hit (a dot) or across it. The dots
     /// go on after every line, in the figures' hit colour with a white rim, so that no ray's
-    /// line hides another ray's hit.
-    fn rays(&self, c: &mut Canvas, rays: &[Ray], hits: &[Option<LocalHit>], towards: DVec3) {
+    /// line hides another ray's hit. Returns how many rays it drew.
+    fn rays(
+        &self,
+        c: &mut Canvas,
+        rays: &[Ray],
+        hits: &[Option<LocalHit>],
+        towards: DVec3,
+    ) -> usize {
+        let mut drawn = 0;
         let color = style::ray(crate::trace::RayKind::Camera);
         let mut dots = Vec::new();
         for (r, hit) in rays.iter().zip(hits) {
@@ -425,6 +454,7 @@ impl Panel {
                 1.0,
                 false,
             );
+            drawn += 1;
             if let Some(h) = hit.filter(|h| h.t <= t_stop) {
                 dots.push(self.map(r.at(h.t)));
             }
@@ -437,5 +467,6 @@ impl Panel {
                 Some(style::hit()),
             );
         }
+        drawn
     }
 }
