@@ -260,7 +260,13 @@ fn render_with<R: Tally>(
                 );
                 kept
             } else {
-                let most = tile.len() * (settings.spp as usize).min(16);
+                // Room for the samples of the pixels the tile traces (every pixel, unless
+                // --subsample skips some: memory_needed counts the same).
+                let traced = tile
+                    .pixels()
+                    .filter(|&(x, y)| super::sampler::traces_samples(settings, w, h, x, y))
+                    .count();
+                let most = traced * (settings.spp as usize).min(16);
                 let mut kept = TileSamples::with_capacity(centres, tile.len(), most);
                 let mut scratch = Vec::new();
                 for (l, (x, y)) in tile.pixels().enumerate() {
