@@ -40,32 +40,46 @@ pub fn check() -> Result<()> {
 /// Cloning shares the flag (cancel a clone, and the original is cancelled). Tokens compare
 /// equal whatever their state: cancelling decides whether a render finishes, never its pixels.
 #[derive(Clone, Default)]
-pub struct Cancel(Vec<std::sync::Arc<AtomicBool>>);
+pub struct Cancel {
+    /// The flag [`Cancel::cancel`] sets (none for the default token and for [`Cancel::or`]'s).
+    own: Option<std::sync::Arc<AtomicBool>>,
+    /// Other tokens' flags this one also stops for ([`Cancel::or`]).
+    watched: Vec<std::sync::Arc<AtomicBool>>,
+}
 
 impl Cancel {
     /// A fresh token of its own, not cancelled.
     pub fn new() -> Cancel {
-        Cancel(vec![std::sync::Arc::new(AtomicBool::new(false))])
+        Cancel {
+            own: Some(std::sync::Arc::new(AtomicBool::new(false))),
+            watched: Vec::new(),
+        }
     }
 
     /// A token cancelled when either this one or `other` is (a render that a caller may
-    /// cancel and that a time budget also stops): it watches both flags.
+    /// cancel and that a time budget also stops). It only watches their flags: cancelling it
+    /// does nothing; cancel the tokens it was made from.
     pub fn or(&self, other: &Cancel) -> Cancel {
-        Cancel(self.0.iter().chain(&other.0).cloned().collect())
+        let flags = |c: &Cancel| c.own.clone().into_iter().chain(c.watched.clone());
+        Cancel {
+            own: None,
+            watched: flags(self).chain(flags(other)).collect(),
+        }
     }
 
-    /// Asks every render using this token (or a clone of it) to stop: sets every flag it
-    /// watches. A default token has no flag of its own: for it this does nothing (only
-    /// Ctrl-C stops it).
+    /// Asks every render using this token (or a clone of it) to stop. A token without a flag
+    /// of its own (the default, or one made by [`Cancel::or`]) is not changed: only Ctrl-C
+    /// and the tokens it watches stop it.
     pub fn cancel(&self) {
-        for f in &self.0 {
+        if let Some(f) = &self.own {
             f.store(true, Ordering::SeqCst);
         }
     }
 
-    /// Has this token been cancelled, or Ctrl-C pressed?
+    /// Has this token been cancelled (or one it watches), or Ctrl-C pressed?
     pub fn is_cancelled(&self) -> bool {
-        requested() || self.0.iter().any(|f| f.load(Ordering::Relaxed))
+        let set = |f: &std::sync::Arc<AtomicBool>| f.load(Ordering::Relaxed);
+        requested() || self.own.as_ref().is_some_and(set) || self.watched.iter().any(set)
     }
 }
 
@@ -86,5 +100,26 @@ impl std::fmt::Debug for Cancel {
                 "running"
             }
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Cancel;
+
+    #[test]
+    fn a_combined_token_stops_for_either_part_and_cancels_neither() {
+        let (caller, deadline) = (Cancel::new(), Cancel::new());
+        let both = caller.or(&deadline);
+        assert!(!both.is_cancelled());
+        both.cancel(); // it has no flag of its own
+        assert!(!both.is_cancelled() && !caller.is_cancelled() && !deadline.is_cancelled());
+        deadline.cancel();
+        assert!(both.is_cancelled() && !caller.is_cancelled());
+        // Tokens made from combined ones watch everything underneath.
+        let (a, b) = (Cancel::new(), Cancel::new());
+        let deeper = Cancel::default().or(&a.or(&b));
+        b.cancel();
+        assert!(deeper.is_cancelled() && !a.is_cancelled());
     }
 }
