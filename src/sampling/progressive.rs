@@ -60,10 +60,9 @@ pub fn pass_settings(
 /// A pass number as typed (`--passes K`, the server's `pass=K`): 1 or more.
 pub fn parse_pass(s: &str) -> Result<u32, String> {
     let t = s.trim();
-    let whole = !t.is_empty()
-        && t.trim_start_matches(['+', '-'])
-            .bytes()
-            .all(|b| b.is_ascii_digit());
+    // Digits, after one sign at most.
+    let digits = t.strip_prefix(['+', '-']).unwrap_or(t);
+    let whole = !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit());
     match t.parse::<i64>() {
         Ok(k) if k < 1 => Err("passes are numbered from 1".into()),
         Err(_) if whole && t.starts_with('-') => Err("passes are numbered from 1".into()),
@@ -170,6 +169,32 @@ pub fn describe(s: &RenderSettings) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn pass_numbers_are_whole_numbers_from_1_with_one_sign_at_most() {
+        assert_eq!(parse_pass(" +7 "), Ok(7));
+        assert_eq!(parse_pass("4294967295"), Ok(u32::MAX));
+        assert!(parse_pass("4294967296")
+            .unwrap_err()
+            .contains("at most 4294967295"));
+        assert!(parse_pass("18446744073709551616")
+            .unwrap_err()
+            .contains("at most"));
+        for low in ["0", "-3", "-99999999999999999999"] {
+            assert_eq!(
+                parse_pass(low).unwrap_err(),
+                "passes are numbered from 1",
+                "{low}"
+            );
+        }
+        for bad in ["+", "-", "++5", "+-5", "-+5", "1.5", "abc", ""] {
+            let e = parse_pass(bad).unwrap_err();
+            assert!(
+                e.contains("is not a pass number (1, 2, 3, ...)"),
+                "{bad}: {e}"
+            );
+        }
+    }
 
     fn base(kind: SamplerKind, spp: u32) -> RenderSettings {
         RenderSettings {
