@@ -16,6 +16,14 @@ pub fn files_read() -> Vec<PathBuf> {
     READ.lock().map(|r| r.clone()).unwrap_or_default()
 }
 
+/// Starts the list of files read afresh: each command of the CLI does, so that a library
+/// user running several in one process checks each one's outputs against its own inputs.
+pub fn forget_reads() {
+    if let Ok(mut read) = READ.lock() {
+        read.clear();
+    }
+}
+
 /// The most a text file of settings may hold: a native scene, a course `.ini` or XML
 /// scenefile, a solid's spec (the biggest in `scenes/` and the course's are under 100 KiB).
 pub const TEXT_LIMIT: u64 = 64 << 20;

@@ -95,6 +95,9 @@ pub fn run(cli: Cli, out: &mut dyn Write) -> Result<()> {
 
 /// [`run`], keeping what the command concluded ([`Outcome`]) for the exit status.
 pub fn run_outcome(cli: Cli, out: &mut dyn Write) -> Result<Outcome> {
+    // A command's outputs are checked against the files it read, not those of the commands
+    // run before it in this process.
+    crate::input::forget_reads();
     match cli.command {
         Command::Diff(a) => diff::run(a, out),
         other => run_done(other, out).map(|()| Outcome::Same),

@@ -122,6 +122,9 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
     let mut render = args.render.clone();
     render.quiet = args.quiet;
     let scene = render.load(&args.scene)?;
+    if sheet {
+        crate::output::check_not_read(&args.output, "-o")?; // a texture of the scene
+    }
     args.render
         .check_memory(&scene, &args.scene, scene.render.spp)?;
     if args.forward {

@@ -465,6 +465,12 @@ fn cases() -> Vec<Case> {
             vec!["argument -o", "./t.png is t.png, a file the scene reads", "would destroy it"],
         ),
         c(
+            "steps' sheet is a texture the scene reads",
+            texture(&one_texel),
+            vec!["steps", "scene.json", "-o", "t.png", "--quiet"],
+            vec!["argument -o", "t.png is a file the scene reads"],
+        ),
+        c(
             "two figures of explain named alike",
             s(obj(SPHERE)),
             vec!["explain", "scene.json", "--pixel", "1,1", "--diagram", "f.png", "--bundle-diagram", "./f.png"],

@@ -226,3 +226,60 @@ fn the_ray_budgets_default_is_told_as_it_is() {
         .expect("schema describes max_rays");
     assert!(text[at..at + 60].contains(&told), "{}", &text[at..at + 60]);
 }
+
+/// The files a command read are its own: run in one process (as a library user may), a
+/// command that reads texture t.png does not make a later command's `-o t.png` refused.
+#[test]
+fn an_earlier_commands_inputs_do_not_refuse_a_later_ones_output() {
+    use clap::Parser;
+    let dir = tmp("reads-per-command");
+    std::fs::create_dir_all(&dir).unwrap();
+    let png = rtlab::output::png_bytes(&image::RgbImage::new(1, 1)).unwrap();
+    std::fs::write(dir.join("t.png"), png).unwrap();
+    let scene = |objects: &str| {
+        format!(
+            r#"{{"camera": {{"position": [0, 0, 5], "width": 8, "height": 6}},
+ "lights": [{{"type": "point", "position": [2, 2, 5]}}], "objects": [{objects}]}}"#
+        )
+    };
+    let textured = r#"{"shape": "sphere", "material": {"texture": {"file": "t.png"}}}"#;
+    std::fs::write(dir.join("textured.json"), scene(textured)).unwrap();
+    std::fs::write(dir.join("plain.json"), scene(r#"{"shape": "sphere"}"#)).unwrap();
+    let run = |args: &[&str]| {
+        let cli = rtlab::cli::Cli::try_parse_from(args).unwrap();
+        rtlab::cli::run(cli, &mut Vec::new())
+    };
+    let at = |name: &str| dir.join(name).to_str().unwrap().to_string();
+    // Within one command the texture is protected...
+    let e = run(&[
+        "rtlab",
+        "render",
+        &at("textured.json"),
+        "-o",
+        &at("t.png"),
+        "-q",
+    ]);
+    assert!(e
+        .unwrap_err()
+        .to_string()
+        .contains("a file the scene reads"));
+    // ...and a later command that does not read it may write it.
+    run(&[
+        "rtlab",
+        "render",
+        &at("textured.json"),
+        "-o",
+        &at("a.png"),
+        "-q",
+    ])
+    .unwrap();
+    run(&[
+        "rtlab",
+        "render",
+        &at("plain.json"),
+        "-o",
+        &at("t.png"),
+        "-q",
+    ])
+    .unwrap();
+}
