@@ -537,8 +537,8 @@ fn the_interval_test_culls_only_boxes_every_ray_misses() {
 /// `rtlab intersect box --bundle-to`: the book's two examples, as JSON.
 #[test]
 fn intersect_box_bundle_to_reports_the_verdicts() {
-    let json = |origin: &str, args: &[&str]| -> serde_json::Value {
-        let mut all = vec!["intersect", "box", "--format", "json", "--origin", origin];
+    let json = |args: &[&str]| -> serde_json::Value {
+        let mut all = vec!["intersect", "box", "--format", "json"];
         all.extend_from_slice(args);
         let o = rtlab(&all);
         assert!(o.status.success(), "{}", stderr(&o));
@@ -552,25 +552,19 @@ fn intersect_box_bundle_to_reports_the_verdicts() {
             .map(|r| r["lane_test"].as_bool())
             .collect()
     };
-    let culled = json(
-        "0,0,-5",
-        &[
-            "--dir",
-            "0.3,0.05,1",
-            "--bundle-to",
-            "0.6,0.05,1",
-            "--rays",
-            "6",
-        ],
-    );
+    let culled = json(BOOK_CULLED);
     assert_eq!(culled["interval_test"]["kept"], false);
     assert_eq!(lanes(&culled), vec![Some(false); 6]);
     let z = &culled["interval_test"]["axes"][2];
     assert!((z["entry"].as_f64().unwrap() - 4.0).abs() < 1e-5, "{z}");
-    let kept = json(
+    let kept = json(&[
+        "--origin",
         "0,0,-5",
-        &["--dir", "0.1,0.05,1", "--bundle-to", "0.4,0.05,1"],
-    );
+        "--dir",
+        "0.1,0.05,1",
+        "--bundle-to",
+        "0.4,0.05,1",
+    ]);
     assert_eq!(kept["interval_test"]["kept"], true);
     let entering = lanes(&kept).iter().filter(|l| **l == Some(true)).count();
     assert_eq!(entering, 8);
@@ -586,10 +580,14 @@ fn intersect_box_bundle_to_reports_the_verdicts() {
         "{t}"
     );
     // From inside the box every ray is in it from the start, t = 0.
-    let inside = json(
+    let inside = json(&[
+        "--origin",
         "0,0,0",
-        &["--dir", "0.1,0.05,1", "--bundle-to", "0.4,0.05,1"],
-    );
+        "--dir",
+        "0.1,0.05,1",
+        "--bundle-to",
+        "0.4,0.05,1",
+    ]);
     assert_eq!(lanes(&inside), vec![Some(true); 16]);
     assert!(inside["rays"]
         .as_array()
@@ -597,13 +595,24 @@ fn intersect_box_bundle_to_reports_the_verdicts() {
         .iter()
         .all(|r| r["t_enter"] == 0.0));
     // No motion along y: that slab bounds nothing, and the others still decide.
-    let flat = json("0,0,-5", &["--dir", "0.1,0,1", "--bundle-to", "0.4,0,1"]);
+    let flat = json(&[
+        "--origin",
+        "0,0,-5",
+        "--dir",
+        "0.1,0,1",
+        "--bundle-to",
+        "0.4,0,1",
+    ]);
     assert!(flat["interval_test"]["axes"][1].is_null(), "{flat}");
     assert_eq!(flat["interval_test"]["kept"], true);
-    let mixed = json(
+    let mixed = json(&[
+        "--origin",
         "0,0,-5",
-        &["--dir", "-0.3,0.05,1", "--bundle-to", "0.1,0.05,1"],
-    );
+        "--dir",
+        "-0.3,0.05,1",
+        "--bundle-to",
+        "0.1,0.05,1",
+    ]);
     assert_eq!(mixed["sign_coherent"], false);
     assert!(mixed["interval_test"]["kept"].is_null());
     assert_eq!(lanes(&mixed), vec![None; 16]);

@@ -100,3 +100,15 @@ pub fn snapshot_explained(
     settings.set_info(&info(&scene));
     settings.bind(|| insta::assert_yaml_snapshot!(name, v));
 }
+
+/// Chapter 13's culled bundle for `rtlab intersect box`: six rays passing beside the box.
+pub const BOOK_CULLED: &[&str] = &[
+    "--origin",
+    "0,0,-5",
+    "--dir",
+    "0.3,0.05,1",
+    "--bundle-to",
+    "0.6,0.05,1",
+    "--rays",
+    "6",
+];

@@ -2,7 +2,7 @@
 //! the book's examples do not cover (rays along y, a ray of almost no length across the
 //! book's view, bundles that change sign along some axes only).
 
-use crate::common::{rtlab, stderr, tmp};
+use crate::common::{rtlab, stderr, tmp, BOOK_CULLED};
 use rtlab::viz::{Anchor, Canvas, Prim};
 
 /// The figure for `intersect box ARGS`, built in-process so that its display list can be read.
@@ -27,18 +27,6 @@ fn run(args: &[&str]) -> String {
     assert!(o.status.success(), "{args:?}: {}", stderr(&o));
     String::from_utf8(o.stdout).unwrap()
 }
-
-/// The book's culled bundle (chapter 13): six rays passing beside the box.
-const CULLED: &[&str] = &[
-    "--origin",
-    "0,0,-5",
-    "--dir",
-    "0.3,0.05,1",
-    "--bundle-to",
-    "0.6,0.05,1",
-    "--rays",
-    "6",
-];
 
 fn has_text(c: &Canvas, part: &str) -> bool {
     c.texts().iter().any(|t| t.contains(part))
@@ -326,7 +314,7 @@ fn signed_zeros_split_the_bundle_as_the_walk_does() {
 /// same twice, and `-o` writes it.
 #[test]
 fn the_books_views_stay_and_figures_are_deterministic() {
-    let culled = CULLED;
+    let culled = BOOK_CULLED;
     let spread: &[&str] = &[
         "--origin",
         "0,0,0",
@@ -598,7 +586,7 @@ fn a_zero_direction_is_not_called_positive() {
 
 #[test]
 fn the_key_explains_red_dots_only_when_some_ray_enters() {
-    let culled = figure(CULLED);
+    let culled = figure(BOOK_CULLED);
     assert!(!has_text(&culled, "Red dots"), "{:?}", culled.texts());
     assert!(
         has_text(&culled, "no ray's own slab test enters it"),
