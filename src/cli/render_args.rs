@@ -185,13 +185,14 @@ impl RenderArgs {
     /// not fit in memory; the message names the arguments when they set the size.
     pub fn check_memory(&self, scene: &Scene, path: &std::path::Path, spp: u32) -> Result<()> {
         let (w, h) = (scene.camera.width, scene.camera.height);
-        crate::sampling::check_memory(w, h, spp, scene.render.subsample).map_err(|m| {
-            if self.width.is_some() || self.height.is_some() || self.spp.is_some() {
-                Error::arg("--width/--height/--spp", m)
-            } else {
-                Error::input(path, "camera", m)
-            }
-        })
+        crate::sampling::check_memory(w, h, scene.render.sampler, spp, scene.render.subsample)
+            .map_err(|m| {
+                if self.width.is_some() || self.height.is_some() || self.spp.is_some() {
+                    Error::arg("--width/--height/--spp", m)
+                } else {
+                    Error::input(path, "camera", m)
+                }
+            })
     }
 
     /// Loads the scene (a scene file or a course `.ini`) and applies these options to it;

@@ -442,13 +442,27 @@ fn traced_lines(n: u32, k: u32) -> u64 {
 pub const MEMORY_BUDGET: u64 = 8 << 30;
 
 /// Refuses, before anything is allocated, a render that would need more than
-/// [`MEMORY_BUDGET`], saying how much it would need.
-pub fn check_memory(width: u32, height: u32, spp: u32, subsample: u32) -> Result<(), String> {
-    let need = memory_needed(width, height, spp, subsample);
+/// [`MEMORY_BUDGET`], saying how much it would need: `spp` samples per pixel with `sampler`
+/// (the adaptive sampler may keep more: [`super::sampler::most_samples`]).
+pub fn check_memory(
+    width: u32,
+    height: u32,
+    sampler: crate::scene::SamplerKind,
+    spp: u32,
+    subsample: u32,
+) -> Result<(), String> {
+    let most = super::sampler::most_samples(sampler, spp);
+    let need = memory_needed(width, height, most, subsample);
     if need > MEMORY_BUDGET {
         let gib = |b: u64| b as f64 / (1u64 << 30) as f64;
+        let samples = match most == spp {
+            true => format!("{spp} sample(s) per pixel"),
+            false => format!(
+                "up to {most} samples per pixel (the adaptive sampler's every level up to {spp})"
+            ),
+        };
         return Err(format!(
-            "{width}×{height} pixels at {spp} sample(s) per pixel would need about {:.1} GiB of memory, more than the {:.0} GiB rtlab allows: render fewer pixels or samples",
+            "{width}×{height} pixels at {samples} would need about {:.1} GiB of memory, more than the {:.0} GiB rtlab allows: render fewer pixels or samples",
             gib(need),
             gib(MEMORY_BUDGET)
         ));

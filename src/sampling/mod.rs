@@ -20,6 +20,7 @@ pub use filter::Filter;
 pub use image::{encode, encode_as, Image};
 pub use reconstruct::reconstruct as render_reconstruct;
 pub use sampler::{
-    pixel_samples, planned_films, sample_pixel, traces_samples, validate_spp, PixelSample,
+    most_samples, pixel_samples, planned_films, sample_pixel, traces_samples, validate_spp,
+    PixelSample,
 };
 pub use tiles::{row_major_order, tiles, Tile, TILE};

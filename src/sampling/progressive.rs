@@ -53,7 +53,8 @@ pub fn pass_settings(
             s.spp = spp;
         }
     }
-    check_memory(width, height, s.spp, s.subsample).map_err(|m| format!("pass {k}: {m}"))?;
+    check_memory(width, height, s.sampler, s.spp, s.subsample)
+        .map_err(|m| format!("pass {k}: {m}"))?;
     Ok(s)
 }
 

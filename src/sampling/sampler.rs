@@ -257,6 +257,15 @@ pub fn sample_pixel_into(
     }));
 }
 
+/// The most samples one pixel keeps with `kind` at `spp`: `spp`, except for the adaptive
+/// sampler, which keeps every level it refines through, 4 + 16 + … + spp.
+pub fn most_samples(kind: SamplerKind, spp: u32) -> u32 {
+    match kind {
+        SamplerKind::Adaptive if spp >= 4 => ((4 * spp as u64 - 4) / 3).min(u32::MAX as u64) as u32,
+        _ => spp,
+    }
+}
+
 // ANCHOR: adaptive
 /// Adaptive sampling: trace the 2×2 grid of the pixel; where a cell's samples disagree by more
 /// than `adaptive_threshold` (largest channel difference), split every cell of that group into

@@ -472,3 +472,22 @@ fn the_memory_estimate_counts_only_the_traced_pixels() {
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
 }
+
+/// The adaptive sampler keeps every level it refines through (4 + 16 + 64 samples at
+/// `--spp 64`), and the memory estimate counts them: there is an image size that 64 samples
+/// a pixel fit and the adaptive sampler's 84 do not, and the refusal says why.
+#[test]
+fn the_memory_estimate_counts_the_adaptive_samplers_levels() {
+    use rtlab::sampling::check_memory;
+    use rtlab::scene::SamplerKind::{Adaptive, Jittered};
+    assert_eq!(rtlab::sampling::most_samples(Adaptive, 64), 84);
+    assert_eq!(rtlab::sampling::most_samples(Adaptive, 1), 1);
+    assert_eq!(rtlab::sampling::most_samples(Jittered, 64), 64);
+    let side = (100..20_000u32)
+        .step_by(10)
+        .find(|&s| check_memory(s, s, Adaptive, 64, 1).is_err())
+        .unwrap();
+    assert!(check_memory(side, side, Jittered, 64, 1).is_ok(), "{side}");
+    let e = check_memory(side, side, Adaptive, 64, 1).unwrap_err();
+    assert!(e.contains("up to 84 samples per pixel"), "{e}");
+}
