@@ -557,14 +557,7 @@ fn intersect_box_bundle_to_reports_the_verdicts() {
     assert_eq!(lanes(&culled), vec![Some(false); 6]);
     let z = &culled["interval_test"]["axes"][2];
     assert!((z["entry"].as_f64().unwrap() - 4.0).abs() < 1e-5, "{z}");
-    let kept = json(&[
-        "--origin",
-        "0,0,-5",
-        "--dir",
-        "0.1,0.05,1",
-        "--bundle-to",
-        "0.4,0.05,1",
-    ]);
+    let kept = json(BOOK_KEPT);
     assert_eq!(kept["interval_test"]["kept"], true);
     let entering = lanes(&kept).iter().filter(|l| **l == Some(true)).count();
     assert_eq!(entering, 8);

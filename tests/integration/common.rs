@@ -112,3 +112,13 @@ pub const BOOK_CULLED: &[&str] = &[
     "--rays",
     "6",
 ];
+
+/// Chapter 13's kept bundle for `rtlab intersect box`: sixteen rays, eight of which enter.
+pub const BOOK_KEPT: &[&str] = &[
+    "--origin",
+    "0,0,-5",
+    "--dir",
+    "0.1,0.05,1",
+    "--bundle-to",
+    "0.4,0.05,1",
+];

@@ -2,7 +2,7 @@
 //! the book's examples do not cover (rays along y, a ray of almost no length across the
 //! book's view, bundles that change sign along some axes only).
 
-use crate::common::{rtlab, stderr, tmp, BOOK_CULLED};
+use crate::common::{rtlab, stderr, tmp, BOOK_CULLED, BOOK_KEPT};
 use rtlab::viz::{Anchor, Canvas, Prim};
 
 /// The figure for `intersect box ARGS`, built in-process so that its display list can be read.
@@ -593,14 +593,7 @@ fn the_key_explains_red_dots_only_when_some_ray_enters() {
         "{:?}",
         culled.texts()
     );
-    let kept = figure(&[
-        "--origin",
-        "0,0,-5",
-        "--dir",
-        "0.1,0.05,1",
-        "--bundle-to",
-        "0.4,0.05,1",
-    ]);
+    let kept = figure(BOOK_KEPT);
     assert!(has_text(
         &kept,
         "Red dots: where each ray's own slab test says it enters"
