@@ -110,6 +110,11 @@ fn budgeted(
                 );
             }
             let _ = finished.send(p.index);
+            // Spent already (a pass that ended past the budget, pass 1 above all): stop here,
+            // before the next pass starts, rather than whenever the timer thread runs.
+            if start.elapsed() >= budget {
+                deadline.cancel();
+            }
         },
     );
     drop(finished);
