@@ -2,7 +2,7 @@
 //! what differs; its messages name the limits; the figure frames what the beam reaches,
 //! shows the mirrored eye its subtitle names, and keeps its labels clear and in the frame.
 
-use crate::common::{rtlab, stderr};
+use crate::common::{drawn_texts, rtlab, stderr};
 use rtlab::cli::beam::{parse, Args};
 use rtlab::viz::canvas::{Canvas, Prim};
 use rtlab::viz::labels::{text_box, Box2};
@@ -212,19 +212,12 @@ fn segments(c: &Canvas) -> Vec<([f32; 2], [f32; 2])> {
 
 /// The labels in the drawing (between the title and the legend) and their boxes.
 fn labels(c: &Canvas) -> Vec<(String, Box2)> {
-    c.display
-        .iter()
-        .filter_map(|p| match p {
-            Prim::Text {
-                at,
-                text,
-                size,
-                anchor,
-                ..
-            } if at[1] > 80.0 && at[1] < 560.0 => {
-                Some((text.clone(), text_box((at[0], at[1]), text, *size, *anchor)))
-            }
-            _ => None,
+    drawn_texts(c)
+        .into_iter()
+        .filter(|t| t.1[1] > 80.0 && t.1[1] < 560.0)
+        .map(|(text, at, size, anchor)| {
+            let b = text_box((at[0], at[1]), &text, size, anchor);
+            (text, b)
         })
         .collect()
 }

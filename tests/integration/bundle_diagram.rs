@@ -298,26 +298,13 @@ fn the_title_fits_the_canvas() {
 /// two texts' boxes (their measured width, their size tall) overlap.
 fn texts_fit(c: &rtlab::viz::canvas::Canvas) {
     use rtlab::viz::canvas::{Anchor, Canvas};
-    let boxes: Vec<(&str, [f32; 4])> = c
-        .display
-        .iter()
-        .filter_map(|p| match p {
-            Prim::Text {
-                at,
-                text,
-                size,
-                anchor: Anchor::Left,
-                ..
-            } => Some((
-                text.as_str(),
-                [
-                    at[0],
-                    at[1] - size / 2.0,
-                    at[0] + Canvas::text_width(text, *size),
-                    at[1] + size / 2.0,
-                ],
-            )),
-            _ => None,
+    let boxes: Vec<(String, [f32; 4])> = drawn_texts(c)
+        .into_iter()
+        .filter(|t| t.3 == Anchor::Left)
+        .map(|(text, at, size, _)| {
+            let right = at[0] + Canvas::text_width(&text, size);
+            let b = [at[0], at[1] - size / 2.0, right, at[1] + size / 2.0];
+            (text, b)
         })
         .collect();
     assert!(boxes.len() > 5);

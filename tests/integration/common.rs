@@ -122,3 +122,21 @@ pub const BOOK_KEPT: &[&str] = &[
     "--bundle-to",
     "0.4,0.05,1",
 ];
+
+/// Each text a figure draws, in order: (text, where, size, anchor), for tests that measure
+/// where labels went.
+pub fn drawn_texts(c: &rtlab::viz::Canvas) -> Vec<(String, [f32; 2], f32, rtlab::viz::Anchor)> {
+    c.display
+        .iter()
+        .filter_map(|p| match p {
+            rtlab::viz::Prim::Text {
+                at,
+                text,
+                size,
+                anchor,
+                ..
+            } => Some((text.clone(), *at, *size, *anchor)),
+            _ => None,
+        })
+        .collect()
+}

@@ -2,7 +2,7 @@
 //! the book's examples do not cover (rays along y, a ray of almost no length across the
 //! book's view, bundles that change sign along some axes only).
 
-use crate::common::{rtlab, stderr, tmp, BOOK_CULLED, BOOK_KEPT};
+use crate::common::{drawn_texts, rtlab, stderr, tmp, BOOK_CULLED, BOOK_KEPT};
 use rtlab::viz::{Anchor, Canvas, Prim};
 
 /// The figure for `intersect box ARGS`, built in-process so that its display list can be read.
@@ -354,21 +354,12 @@ fn the_books_views_stay_and_figures_are_deterministic() {
 /// The t axis's tick labels (size 10, centred under the axis), left to right, with their
 /// boxes (x0, x1) in pixels.
 fn tick_labels(c: &Canvas) -> Vec<(String, f32, f32)> {
-    let mut ticks: Vec<(String, f32, f32)> = c
-        .display
-        .iter()
-        .filter_map(|p| match p {
-            Prim::Text {
-                at,
-                text,
-                size,
-                anchor: Anchor::Center,
-                ..
-            } if *size == 10.0 && at[0] > 480.0 => {
-                let w = Canvas::text_width(text, *size);
-                Some((text.clone(), at[0] - w / 2.0, at[0] + w / 2.0))
-            }
-            _ => None,
+    let mut ticks: Vec<(String, f32, f32)> = drawn_texts(c)
+        .into_iter()
+        .filter(|&(_, at, size, anchor)| anchor == Anchor::Center && size == 10.0 && at[0] > 480.0)
+        .map(|(text, at, size, _)| {
+            let w = Canvas::text_width(&text, size);
+            (text, at[0] - w / 2.0, at[0] + w / 2.0)
         })
         .collect();
     ticks.sort_by(|a, b| a.1.total_cmp(&b.1));
