@@ -274,7 +274,7 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
     let mut text = format!(
         "A beam from the eye at {}, counterclockwise from direction {from} to {to} ({}° wide), \
          clipped against {} segment(s) nearest first (Heckbert and Hanrahan 1984).\n\
-         Its pieces, counterclockwise; each is the part of the beam one segment sees:\n",
+         Its pieces, counterclockwise; each is the part of the beam one segment sees, or that meets none:\n",
         v2(clean.point(beam.apex), 4),
         degrees(wide),
         segments.len()

@@ -241,7 +241,7 @@ fn heading(c: &mut Canvas, segments: &[Segment], pieces: &[Piece], deepest: u32)
     );
     c.text(
         (MARGIN, 44.0),
-        "Each numbered piece is the part of the beam that one segment sees; the rest of the beam goes on past it.",
+        "The beam is cut into numbered pieces: each is the part that one segment sees, or a part that goes on past them all.",
         12.0,
         style::ink(),
         Anchor::Left,
