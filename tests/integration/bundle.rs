@@ -257,11 +257,9 @@ fn every_simd_level_writes_the_same_image() {
                 "simd-{}-{simd}-{traversal}.png",
                 scene.replace('/', "_")
             ));
-            let o = std::process::Command::new(env!("CARGO_BIN_EXE_rtlab"))
-                .current_dir(path("."))
-                .env("RTLAB_SIMD", simd)
-                .args(["render", scene, "-o", out.to_str().unwrap()])
-                .args([
+            let args = [
+                &["render", scene, "-o", out.to_str().unwrap()][..],
+                &[
                     "--width",
                     "61",
                     "--height",
@@ -269,10 +267,11 @@ fn every_simd_level_writes_the_same_image() {
                     "--quiet",
                     "--traversal",
                     traversal,
-                ])
-                .args(extra)
-                .output()
-                .expect("rtlab runs");
+                ],
+                extra,
+            ]
+            .concat();
+            let o = rtlab_simd(simd, &args);
             assert!(o.status.success(), "{scene}: {}", stderr(&o));
             std::fs::read(&out).unwrap()
         };
@@ -291,13 +290,21 @@ fn every_simd_level_writes_the_same_image() {
 fn stats_name_the_simd_level_the_bundles_ran_on() {
     for (cap, want) in [("base", "portable"), ("avx2", "avx2")] {
         let out = tmp(&format!("simd-stats-{cap}.png"));
-        let o = std::process::Command::new(env!("CARGO_BIN_EXE_rtlab"))
-            .current_dir(path("."))
-            .env("RTLAB_SIMD", cap)
-            .args(["render", "scenes/teapot.json", "-o", out.to_str().unwrap()])
-            .args(["--width", "32", "--height", "24", "--stats", "json"])
-            .output()
-            .expect("rtlab runs");
+        let o = rtlab_simd(
+            cap,
+            &[
+                "render",
+                "scenes/teapot.json",
+                "-o",
+                out.to_str().unwrap(),
+                "--width",
+                "32",
+                "--height",
+                "24",
+                "--stats",
+                "json",
+            ],
+        );
         assert!(o.status.success(), "{}", stderr(&o));
         let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
         assert_eq!(v["traversal"], "bundle");

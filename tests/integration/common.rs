@@ -23,6 +23,16 @@ pub fn rtlab(args: &[&str]) -> Output {
         .expect("rtlab runs")
 }
 
+/// Runs the rtlab binary with arguments, its SIMD level capped by `RTLAB_SIMD=level`.
+pub fn rtlab_simd(level: &str, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_rtlab"))
+        .args(args)
+        .current_dir(root())
+        .env("RTLAB_SIMD", level)
+        .output()
+        .expect("rtlab runs")
+}
+
 /// Loads a scene from the repository.
 pub fn scene(rel: &str) -> rtlab::scene::Scene {
     rtlab::scene::Scene::load(&path(rel)).unwrap_or_else(|e| panic!("{rel}: {e}"))

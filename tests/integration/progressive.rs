@@ -201,8 +201,9 @@ fn budgeted_stats_are_the_written_pass() {
 #[test]
 fn an_unknown_simd_level_is_warned_of() {
     let o = tmp("simd-bogus.png");
-    let run = std::process::Command::new(env!("CARGO_BIN_EXE_rtlab"))
-        .args([
+    let run = rtlab_simd(
+        "bogus",
+        &[
             "render",
             "scenes/spheres.json",
             "--width",
@@ -210,12 +211,9 @@ fn an_unknown_simd_level_is_warned_of() {
             "--height",
             "12",
             "-o",
-        ])
-        .arg(&o)
-        .current_dir(root())
-        .env("RTLAB_SIMD", "bogus")
-        .output()
-        .unwrap();
+            o.to_str().unwrap(),
+        ],
+    );
     assert!(run.status.success());
     assert!(
         stderr(&run).contains("warning: RTLAB_SIMD=bogus names no SIMD level"),
@@ -223,8 +221,9 @@ fn an_unknown_simd_level_is_warned_of() {
         stderr(&run)
     );
     // The name `--stats` gives the base level, in any case, is a level.
-    let run = std::process::Command::new(env!("CARGO_BIN_EXE_rtlab"))
-        .args([
+    let run = rtlab_simd(
+        "PORTABLE",
+        &[
             "render",
             "scenes/spheres.json",
             "--width",
@@ -234,12 +233,9 @@ fn an_unknown_simd_level_is_warned_of() {
             "--stats",
             "json",
             "-o",
-        ])
-        .arg(&o)
-        .current_dir(root())
-        .env("RTLAB_SIMD", "PORTABLE")
-        .output()
-        .unwrap();
+            o.to_str().unwrap(),
+        ],
+    );
     assert!(run.status.success());
     assert!(!stderr(&run).contains("warning"), "{}", stderr(&run));
     assert!(String::from_utf8_lossy(&run.stdout).contains("\"simd\": \"portable\""));
