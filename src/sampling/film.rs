@@ -85,6 +85,27 @@ pub struct RenderOutput {
     pub cancelled: bool,
 }
 
+impl RenderOutput {
+    /// The output of a render cancelled before its image was complete: no image (black), no
+    /// counts, nothing to be written.
+    fn cancelled((width, height): (u32, u32), trace_seconds: f64) -> RenderOutput {
+        RenderOutput {
+            image: Image {
+                width,
+                height,
+                pixels: vec![DVec3::ZERO; width as usize * height as usize],
+            },
+            stats: None,
+            trace_seconds,
+            first_nan: None,
+            spp_map: None,
+            cut_samples: 0,
+            first_cut: None,
+            cancelled: true,
+        }
+    }
+}
+
 /// Renders the scene. With `count`, a [`Counter`] records rays, tests and nodes over the
 /// whole render ([`Counting::Totals`]); otherwise the zero-cost [`NoRecorder`] runs. Tiles
 /// ([`tiles`]) are traced in parallel and gathered back into rows, and each sample's
@@ -305,20 +326,7 @@ fn render_with<R: Tally>(
     }
     if settings.cancel.is_cancelled() {
         // Some tiles were skipped: there is no image to reconstruct (and none will be written).
-        return Some(RenderOutput {
-            image: Image {
-                width: w,
-                height: h,
-                pixels: vec![DVec3::ZERO; w as usize * h as usize],
-            },
-            stats: None,
-            trace_seconds,
-            first_nan: None,
-            spp_map: None,
-            cut_samples: 0,
-            first_cut: None,
-            cancelled: true,
-        });
+        return Some(RenderOutput::cancelled((w, h), trace_seconds));
     }
 
     // The first in row-major order (a tile's own first is its first in that order too).
@@ -361,12 +369,19 @@ fn render_with<R: Tally>(
     let spp_map = Some(grid.iter().map(|&(kept, l)| kept.count(l)).collect());
     let filter = Filter::for_settings(settings);
     let kernel = Kernel::new(&filter, settings.subsample);
-    let image = Image::from_fn(w, h, |x, y| {
+    // Stopped or cancelled while reconstructing, the pass is thrown away as above.
+    let given_up = || settings.cancel.is_cancelled() || stop();
+    let Some(image) = Image::from_fn_until(w, h, &given_up, |x, y| {
         reconstruct_color(&kernel, (x, y), (w, h), |qx, qy| {
             let (kept, l) = grid[(qy * w + qx) as usize];
             kept.of(l, (qx, qy))
         })
-    });
+    }) else {
+        if settings.cancel.is_cancelled() {
+            return Some(RenderOutput::cancelled((w, h), trace_seconds));
+        }
+        return None;
+    };
     Some(RenderOutput {
         image,
         stats,

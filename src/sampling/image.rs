@@ -18,23 +18,41 @@ impl Image {
     /// vector by doubling on each thread and then joined the threads' pieces: the image was
     /// copied about twice over, into memory faulted in afresh each time.)
     pub fn from_fn(width: u32, height: u32, color: impl Fn(u32, u32) -> DVec3 + Sync) -> Image {
+        Image::from_fn_until(width, height, &|| false, color).expect("never stopped")
+    }
+
+    /// [`Image::from_fn`] that gives up (`None`) once `stop()` says so, asked before each
+    /// row: a reconstruction can take longer than the trace (a filter stretched by
+    /// `--subsample` over thousands of samples a pixel), and a time budget or a cancelled
+    /// render must not wait for it.
+    pub fn from_fn_until(
+        width: u32,
+        height: u32,
+        stop: &(dyn Fn() -> bool + Sync),
+        color: impl Fn(u32, u32) -> DVec3 + Sync,
+    ) -> Option<Image> {
         use rayon::prelude::*;
+        let stopped = std::sync::atomic::AtomicBool::new(false);
         let mut pixels = vec![DVec3::ZERO; width as usize * height as usize];
         if width > 0 {
             pixels
                 .par_chunks_mut(width as usize)
                 .enumerate()
                 .for_each(|(y, row)| {
+                    if stopped.load(std::sync::atomic::Ordering::Relaxed) || stop() {
+                        stopped.store(true, std::sync::atomic::Ordering::Relaxed);
+                        return;
+                    }
                     for (x, p) in row.iter_mut().enumerate() {
                         *p = color(x as u32, y as u32);
                     }
                 });
         }
-        Image {
+        (!stopped.into_inner()).then_some(Image {
             width,
             height,
             pixels,
-        }
+        })
     }
 
     pub fn get(&self, x: u32, y: u32) -> DVec3 {

@@ -370,3 +370,47 @@ fn stats_name_the_pass() {
     assert!(one.contains("pass 1 (the image written): rays: "), "{one}");
     assert!(!one.contains("earlier passes"), "{one}");
 }
+
+/// A render stopped while its samples are being reconstructed gives no image, as one stopped
+/// while tracing does: under `--subsample` the stretched filter can take longer than the
+/// trace, and a time budget must not wait for it (it once wrote a pass that ended seconds
+/// past the budget). `stop` is asked a fixed number of times while tracing (once per tile and
+/// once per block or pixel), so counting the asks of a whole render tells when tracing ends.
+#[test]
+fn a_render_stopped_while_reconstructing_gives_no_image() {
+    use rtlab::accel::Traversal;
+    use rtlab::sampling::{render_until, Counting};
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    let mut scene = scene("scenes/spheres.json");
+    scene.camera.update_size(40, 30);
+    for traversal in [Traversal::Bundle, Traversal::Single] {
+        let settings = rtlab::scene::RenderSettings {
+            subsample: 8,
+            traversal,
+            ..scene.render.clone()
+        };
+        let asked = AtomicUsize::new(0);
+        let count = || {
+            asked.fetch_add(1, Ordering::Relaxed);
+            false
+        };
+        assert!(render_until(&scene, &settings, Counting::Off, None, &count).is_some());
+        let rows = scene.camera.height as usize;
+        let tracing = asked.load(Ordering::Relaxed) - rows;
+        // Stopped at the first row of the reconstruction: nothing comes back.
+        let asked = AtomicUsize::new(0);
+        let stop_after_tracing = || asked.fetch_add(1, Ordering::Relaxed) >= tracing;
+        assert!(
+            render_until(&scene, &settings, Counting::Off, None, &stop_after_tracing).is_none(),
+            "{traversal:?}"
+        );
+        // Stopped at the last row instead, the render is still thrown away; one ask later
+        // is never made (the count is the same on every run, whatever the threads do).
+        let asked = AtomicUsize::new(0);
+        let stop_at_last_row = || asked.fetch_add(1, Ordering::Relaxed) + 1 >= tracing + rows;
+        assert!(render_until(&scene, &settings, Counting::Off, None, &stop_at_last_row).is_none());
+        let asked = AtomicUsize::new(0);
+        let stop_past_the_end = || asked.fetch_add(1, Ordering::Relaxed) >= tracing + rows;
+        assert!(render_until(&scene, &settings, Counting::Off, None, &stop_past_the_end).is_some());
+    }
+}
