@@ -7,6 +7,7 @@
 //! Adding an AOV: one variant, one row in [`Aov::ALL`], one arm in [`Aov::display`].
 
 use super::bundles::{bundled, trace_bundled, BundleTally, TilePlan};
+use super::sampler::{standing_for, traces_samples};
 use super::tiles::{tiles, Tile};
 use super::{pixel_samples, render_reconstruct, Filter};
 use crate::math::Ray;
@@ -347,8 +348,13 @@ pub fn trace_aov_samples(scene: &Scene, settings: &RenderSettings) -> AovSamples
         .into_par_iter()
         .map(|tile| {
             let mut rec = AovRecorder::default();
+            // Under --subsample only some pixels trace, as in the render, whichever traversal.
             let plan = TilePlan::of(&tile, |x, y| {
-                pixel_samples(settings.sampler, settings.spp, settings.seed, x, y)
+                if traces_samples(settings, w, h, x, y) {
+                    pixel_samples(settings.sampler, settings.spp, settings.seed, x, y)
+                } else {
+                    Vec::new()
+                }
             });
             let mut out: Vec<SamplesOf> = vec![Vec::new(); tile.len()];
             if bundled {
@@ -458,10 +464,14 @@ pub fn render_aov(scene: &Scene, base: &RenderSettings, aov: Aov) -> AovImage {
         max_cost: samples.pixels.iter().map(pixel_cost).max().unwrap_or(0),
     };
 
-    let filter = Filter::new(settings.filter);
+    // The render's own filter: stretched under --subsample, and reaching the corners
+    // sampler's shared corners.
+    let filter = Filter::for_settings(&settings);
     let colors = super::Image::from_fn(w, h, |x, y| {
         if aov == Aov::Cost {
-            // Per pixel, not filtered: the work this pixel's samples caused.
+            // Per pixel, not filtered: the work this pixel's samples caused (under
+            // --subsample, a pixel that traces nothing shows the one that stands for it).
+            let (x, y) = standing_for(&settings, w, h, x, y);
             let c = pixel_cost(&samples.pixels[(y * w + x) as usize]);
             return heat(c as f64 / ranges.max_cost.max(1) as f64);
         }

@@ -140,6 +140,23 @@ pub fn traces_samples(settings: &RenderSettings, width: u32, height: u32, x: u32
     }
     (x.is_multiple_of(k) || x + 1 == width) && (y.is_multiple_of(k) || y + 1 == height)
 }
+
+/// The pixel that traces for (x, y) under `--subsample K`: (x, y) itself if it traces
+/// ([`traces_samples`]), otherwise the traced pixel at the top left of its K×K block.
+pub fn standing_for(
+    settings: &RenderSettings,
+    width: u32,
+    height: u32,
+    x: u32,
+    y: u32,
+) -> (u32, u32) {
+    if traces_samples(settings, width, height, x, y) {
+        return (x, y);
+    }
+    let k = settings.subsample.max(1);
+    let traced = |v: u32, last: u32| if v + 1 == last { v } else { v - v % k };
+    (traced(x, width), traced(y, height))
+}
 // ANCHOR_END: subsample
 
 // ANCHOR: corners

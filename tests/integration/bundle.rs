@@ -93,6 +93,59 @@ fn aovs_agree_and_cost_counts_the_bundles_work() {
     assert!(costs[0] == costs[1], "adaptive cost");
 }
 
+/// Under `--subsample` (and so in every progressive preview, pass 1) an AOV traces the
+/// same pixels both ways: the bundled AOV once traced only the subsampled pixels while the
+/// single-ray one traced them all, and its preview came out mostly black. Every AOV (but the
+/// cost, which counts each traversal's own work), every sampler.
+#[test]
+fn subsampled_aovs_agree_single_or_bundle() {
+    let mut scene = scene("scenes/spheres.json");
+    scene.camera.update_size(45, 34);
+    for (kind, spp) in [
+        (SamplerKind::Center, 1),
+        (SamplerKind::Grid, 4),
+        (SamplerKind::Corners, 5),
+        (SamplerKind::Jittered, 4),
+        (SamplerKind::Random, 3),
+        (SamplerKind::Adaptive, 16),
+    ] {
+        let mut s = scene.render.clone();
+        s.sampler = kind;
+        s.spp = spp;
+        s.subsample = 3;
+        for &(aov, name, _) in Aov::ALL {
+            if aov == Aov::Cost {
+                continue;
+            }
+            let [single, bundle] = [Traversal::Single, Traversal::Bundle].map(|t| {
+                s.traversal = t;
+                render_aov(&scene, &s, aov).image
+            });
+            assert!(single == bundle, "{name}, {kind:?}, subsample 3");
+        }
+        // And the traced pixels are the full image's: under the box filter, stretched 3 times,
+        // a traced pixel is its own sample alone (the normal: the depth's grey scale depends
+        // on the range of every hit).
+        if kind == SamplerKind::Center {
+            let full = render_aov(
+                &scene,
+                &rtlab::scene::RenderSettings {
+                    subsample: 1,
+                    ..s.clone()
+                },
+                Aov::Normal,
+            )
+            .image;
+            let sub = render_aov(&scene, &s, Aov::Normal).image;
+            for (x, y, p) in sub.enumerate_pixels() {
+                if x % 3 == 0 && y % 3 == 0 {
+                    assert_eq!(p, full.get_pixel(x, y), "({x}, {y})");
+                }
+            }
+        }
+    }
+}
+
 #[test]
 fn stats_count_bundles_and_rays_alike() {
     let mut scene = scene("scenes/teapot.json");
