@@ -353,7 +353,11 @@ async fn render(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Res
         stream,
         flag: cancel.clone(),
     };
-    run(state, move |st| {
+    // An AOV's legend (how to read its colours, with the ranges used: what `rtlab render
+    // --aov` prints on stderr) goes back in a header beside the image.
+    let legend = Arc::new(std::sync::Mutex::new(None::<String>));
+    let legend_out = legend.clone();
+    let mut response = run(state, move |st| {
         let aov = q.own.get("aov").map(|a| Aov::parse_arg(a)).transpose()?;
         let pass = q
             .own
@@ -384,7 +388,9 @@ async fn render(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Res
             )?;
         }
         if let Some(aov) = aov {
-            return png(&render_aov(&s, &settings, aov).image);
+            let made = render_aov(&s, &settings, aov);
+            *legend_out.lock().expect("the legend's lock") = Some(made.legend);
+            return png(&made.image);
         }
         match crate::sampling::render_cancellable(&s, &settings, &cancel) {
             Some(out) => png(&out.image.to_rgb8(s.render.encoding)),
@@ -394,8 +400,20 @@ async fn render(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Res
             )),
         }
     })
-    .await
+    .await;
+    let legend = legend.lock().expect("the legend's lock").take();
+    if let Some(text) = legend.filter(|_| response.status().is_success()) {
+        // Form-encoded: a header is ASCII, and the legend has arrows and middle dots.
+        let encoded: String = form_urlencoded::byte_serialize(text.as_bytes()).collect();
+        if let Ok(value) = header::HeaderValue::from_str(&encoded) {
+            response.headers_mut().insert(AOV_LEGEND, value);
+        }
+    }
+    response
 }
+
+/// The header of an AOV's legend on `/api/render.png?aov=NAME` (form-encoded UTF-8).
+pub(super) const AOV_LEGEND: &str = "x-rtlab-aov-legend";
 
 /// The steps frames of the scene with these options (rendered once, then kept).
 fn frames(st: &State, q: &Params) -> std::result::Result<Frames, Fail> {

@@ -225,6 +225,18 @@ async fn screenshot(c: &Client, name: &str) -> PathBuf {
     p
 }
 
+/// The panels (`main` elements) the browser really displays: only the selected tab's.
+async fn shown_panels(c: &Client) -> String {
+    let v = c
+        .execute(
+            "return [...document.querySelectorAll('main')].filter((m) => getComputedStyle(m).display !== 'none').map((m) => m.id).join(',');",
+            vec![],
+        )
+        .await
+        .unwrap();
+    v.as_str().unwrap().to_string()
+}
+
 #[test]
 fn the_page_in_a_real_browser() {
     let driver = Driver::start();
@@ -243,6 +255,8 @@ fn the_page_in_a_real_browser() {
         let with = cli_render(&scene, &[]);
         assert_eq!((w, h), with.dimensions());
         assert_eq!(shown, with.as_raw().clone(), "the page shows render's bytes");
+
+        assert_eq!(shown_panels(&c).await, "explore", "only Explore's panel shows");
 
         // Click a pixel on the lit sphere: the ledger sums to explain's colour.
         let (x, y) = (200, 150);
@@ -295,6 +309,35 @@ fn the_page_in_a_real_browser() {
         // The selected pixel's explanation followed the switch.
         wait_js(&c, "return document.getElementById('ledger').textContent.length > 0 && !document.getElementById('ledger').textContent.includes('in shadow');", "the explanation without shadows").await;
 
+        // The cost AOV: the page shows render --aov's image and, under it, its legend.
+        c.execute(
+            "const a = document.getElementById('opt-aov'); a.value = 'cost'; a.dispatchEvent(new Event('change'));",
+            vec![],
+        )
+        .await
+        .unwrap();
+        let legend = wait_js(
+            &c,
+            "const l = document.getElementById('aov-legend'); const s = document.getElementById('render-state').textContent; return !l.hidden && s.startsWith('pass 2') && s.includes('--aov cost') ? l.textContent : '';",
+            "the cost AOV's full image and legend",
+        )
+        .await;
+        let (_, _, cost_page) = page_image(&c, "no-shadows").await;
+        let out = tmp("browser-cost.png");
+        let o = rtlab(&["render", scene.to_str().unwrap(), "--no-shadows", "--aov", "cost", "-o", out.to_str().unwrap()]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let cli_legend = stderr(&o).lines().next().unwrap().to_string();
+        assert!(legend.as_str().unwrap().starts_with(&cli_legend), "page {legend} vs render {cli_legend}");
+        assert_eq!(cost_page, image::open(&out).unwrap().to_rgb8().into_raw(), "the page shows render --aov cost");
+        screenshot(&c, "serve-aov.png").await;
+        c.execute(
+            "const a = document.getElementById('opt-aov'); a.value = ''; a.dispatchEvent(new Event('change'));",
+            vec![],
+        )
+        .await
+        .unwrap();
+        wait_js(&c, "return document.getElementById('aov-legend').hidden && document.getElementById('render-state').textContent.startsWith('pass 2') && !document.getElementById('render-state').textContent.includes('--aov');", "the colour image again").await;
+
         // Steps: the scrubber walks `rtlab steps`' frames.
         c.find(Locator::Css("nav button[data-mode='steps']"))
             .await
@@ -322,6 +365,7 @@ fn the_page_in_a_real_browser() {
         .await;
         let list: Value = serde_json::from_slice(&server.get("/api/steps?no-shadows").body).unwrap();
         assert_eq!(caption, list[2]["caption"], "the page shows frame 3's caption");
+        assert_eq!(shown_panels(&c).await, "steps");
         screenshot(&c, "serve-steps.png").await;
 
         // Compare: two runs side by side and where they differ.
@@ -338,6 +382,7 @@ fn the_page_in_a_real_browser() {
         )
         .await;
         assert!(count.as_str().unwrap().contains("pixels differ"), "{count}");
+        assert_eq!(shown_panels(&c).await, "compare");
         screenshot(&c, "serve-compare.png").await;
 
         // Diff: drop your image (here: the scene rendered with a mistake) → regions and
@@ -363,6 +408,7 @@ fn the_page_in_a_real_browser() {
         let verdict = verdict.as_str().unwrap().to_string();
         assert!(verdict.starts_with("different"), "{verdict}");
         assert!(verdict.contains("blinn-phong"), "{verdict}");
+        assert_eq!(shown_panels(&c).await, "diff");
         screenshot(&c, "serve-diff.png").await;
         c.find(Locator::Css("button.diff-show"))
             .await

@@ -196,6 +196,9 @@ async function loadImage(url, signal) {
   if (r.status === 409) return null; // superseded by a newer render of ours
   if (!r.ok) throw new Error((await r.text()).trim());
   const bmp = await createImageBitmap(await r.blob(), { colorSpaceConversion: "none", premultiplyAlpha: "none" });
+  // An AOV's legend: how to read its colours, as `rtlab render --aov` prints it.
+  const legend = r.headers.get("x-rtlab-aov-legend");
+  bmp.legend = legend === null ? null : decodeURIComponent(legend.replace(/\+/g, " "));
   return bmp;
 }
 
@@ -213,6 +216,13 @@ function show(bmp, kind, query, w, h) {
   view.dataset.state = kind;
   view.dataset.query = query;
   if (sized || state.fitted) fit(); else draw();
+}
+
+// The legend of the AOV shown (none for the colour image).
+function showLegend(text) {
+  const l = $("aov-legend");
+  l.hidden = !text;
+  l.textContent = text ? text + "\nA clicked pixel is explained as the colour image's pixel." : "";
 }
 
 function setStatus(text, error) {
@@ -234,6 +244,7 @@ async function rerender() {
   const q = renderQuery();
   const aov = $("opt-aov") ? $("opt-aov").value : "";
   const own = join(aov ? "aov=" + encodeURIComponent(aov) : "", "stream=" + STREAM);
+  const cli = aov ? " --aov " + aov : "";
   const stale = () => my !== state.generation;
   view.dataset.state = "rendering";
   try {
@@ -247,13 +258,15 @@ async function rerender() {
       if (stale()) return;
       if (p) {
         show(p, "preview", q);
-        setStatus(`pass 1 (preview, = rtlab render --passes 1) after ${Math.round(performance.now() - t0)} ms; pass 2, the full image…`);
+        showLegend(p.legend);
+        setStatus(`pass 1 (preview, = rtlab render --passes 1${cli}) after ${Math.round(performance.now() - t0)} ms; pass 2, the full image…`);
       }
     }
     const img = await loadImage("/api/render.png?" + join(q, own), controller.signal);
     if (stale() || !img) return;
     show(img, "full", q);
-    setStatus(`pass 2, the full image (= rtlab render), ${state.width}×${state.height}, ${Math.round(performance.now() - t0)} ms` + (q ? "  ·  " + q : ""));
+    showLegend(img.legend);
+    setStatus(`pass 2, the full image (= rtlab render${cli}), ${state.width}×${state.height}, ${Math.round(performance.now() - t0)} ms` + (q ? "  ·  " + q : ""));
     if (state.selected) explain();
     if (!$("steps").hidden) loadSteps();
   } catch (e) {
