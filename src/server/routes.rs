@@ -272,7 +272,7 @@ fn check_explained(s: &Scene, x: u32, y: u32) -> crate::error::Result<()> {
 /// `GET /api/diagram.png?x=X&y=Y[&plane=camera|bounce][&highlight=K]&<render options>`:
 /// the figure of `rtlab explain --diagram`, ray K (preorder, 0-based) in bold.
 async fn diagram(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Response {
-    let q = match query(&raw, &["x", "y", "plane", "highlight"]) {
+    let q = match query(&raw, &["x", "y", "plane", "highlight", "sample"]) {
         Ok(q) => q,
         Err(r) => return r,
     };
@@ -292,7 +292,25 @@ async fn diagram(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Re
         let (x, y) = q.pixel(s.camera.width, s.camera.height)?;
         check_explained(&s, x, y)?;
         let e = crate::report::explain::explain(&s, x, y);
-        let Some(sample) = e.samples.iter().find(|k| k.pixel == [x, y]) else {
+        // `sample=i`: the i-th of the samples the pixel is made of, in `/api/explain`'s order
+        // (the page's selected row; a neighbour's under a wide filter); else its own first.
+        let chosen = match q.own.contains_key("sample") {
+            true => {
+                let i = q.number("sample", "sample=0")? as usize;
+                let n = e.samples.len();
+                Some(e.samples.get(i).ok_or_else(|| {
+                    Error::arg(
+                        "sample",
+                        format!(
+                            "sample {i} does not exist (pixel ({x}, {y}) is made of {n} sample(s), 0..{})",
+                            n.saturating_sub(1)
+                        ),
+                    )
+                })?)
+            }
+            false => e.samples.iter().find(|k| k.pixel == [x, y]),
+        };
+        let Some(sample) = chosen else {
             return Err(Error::arg(
                 "x/y",
                 format!(
@@ -315,7 +333,10 @@ async fn diagram(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Re
         }
         let opts = crate::viz::slice::SliceOptions {
             plane,
-            caption: Some(format!("pixel ({x}, {y}), sample {}", sample.index)),
+            caption: Some(format!(
+                "pixel ({}, {}), sample {}",
+                sample.pixel[0], sample.pixel[1], sample.index
+            )),
             highlight,
             ..Default::default()
         };

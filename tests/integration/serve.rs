@@ -303,6 +303,41 @@ fn render_and_explain_are_the_clis_bytes() {
     let h = s.get("/api/diagram.png?x=200&y=150&highlight=1");
     assert_eq!(h.status, 200);
     assert_ne!(h.body, r.body);
+    // `sample=I` draws the sample the page selected, as `explain --sample I --diagram` does
+    // (under the box filter a pixel's samples are its own, in order); `sample=0` is the
+    // default figure.
+    let q = "x=200&y=150&spp=4&sampler=jittered";
+    let first = s.get(&format!("/api/diagram.png?{q}"));
+    assert_eq!(
+        first.body,
+        s.get(&format!("/api/diagram.png?{q}&sample=0")).body
+    );
+    let third = s.get(&format!("/api/diagram.png?{q}&sample=2"));
+    assert_eq!(third.status, 200, "{}", third.text());
+    let fig = tmp("serve-diagram-sample.png");
+    let o = rtlab(&[
+        "explain",
+        "scenes/spheres.json",
+        "--max-depth",
+        "2",
+        "--pixel",
+        "200,150",
+        "--spp",
+        "4",
+        "--sampler",
+        "jittered",
+        "--sample",
+        "2",
+        "--diagram",
+        fig.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        third.body,
+        std::fs::read(&fig).unwrap(),
+        "sample=2 vs explain --sample 2"
+    );
+    assert_ne!(third.body, first.body);
 }
 
 #[test]
@@ -484,6 +519,8 @@ fn bad_parameters_get_the_clis_one_line_messages() {
         "/api/render.png?width=160&height=120&pass=8",
         "/api/render.png?width=160&height=120&aov=depth&pass=8",
         "/api/diagram.png?x=1&y=1&highlight=999999",
+        "/api/diagram.png?x=1&y=1&sample=4",
+        "/api/diagram.png?x=1&y=1&sample=first",
         "/api/explain?x=1,2&y=3",
         "/api/explain?x=1&y=1&sampler=grid%0a",
         "/api/explain?x=1&y=1&sampler=%1b%5b31mred",

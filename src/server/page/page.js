@@ -400,7 +400,7 @@ function showLedger(s) {
 function showDiagram() {
   const { x, y } = state.selected;
   const hl = state.highlight === null ? "" : `highlight=${state.highlight}`;
-  $("diagram").src = `/api/diagram.png?${join(`x=${x}&y=${y}`, "plane=" + $("plane").value, hl, renderQuery())}`;
+  $("diagram").src = `/api/diagram.png?${join(`x=${x}&y=${y}`, `sample=${state.sample}`, "plane=" + $("plane").value, hl, renderQuery())}`;
 }
 $("plane").addEventListener("change", () => { if (state.selected) showDiagram(); });
 
