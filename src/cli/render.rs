@@ -237,6 +237,8 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
             Some(k) => pass_of(&scene, k)?,
             None => scene.render.clone(),
         };
+        args.render
+            .check_aov_memory(&scene, &args.scene, &settings)?;
         let img = threads.run(|| render_aov(&scene, &settings, aov));
         write_png(&out, &img.image)?;
         if !args.quiet {
@@ -245,10 +247,18 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
         }
         return Ok(());
     }
-    args.render
-        .check_memory(&scene, &args.scene, scene.render.spp)?;
-    // Pass K must exist, also as a budget's last pass (a cap it could never reach would be
-    // silently the same as no cap).
+    // What is rendered must fit: the scene's settings; or pass K (`pass_of` checks it), which
+    // must exist, also as a budget's last pass (a cap it could never reach would be silently
+    // the same as no cap); under a budget, pass 1, which always completes (a later pass that
+    // would not fit ends the sequence).
+    if args.passes.is_none() && args.time_budget.is_none() {
+        args.render
+            .check_memory(&scene, &args.scene, scene.render.spp)?;
+    }
+    if args.time_budget.is_some() {
+        let (w, h) = (scene.camera.width, scene.camera.height);
+        pass_settings(&scene.render, w, h, 1).map_err(|m| Error::arg("--time-budget", m))?;
+    }
     if let Some(k) = args.passes {
         let pass = pass_of(&scene, k)?;
         if args.time_budget.is_none() {

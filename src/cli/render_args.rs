@@ -186,13 +186,27 @@ impl RenderArgs {
     pub fn check_memory(&self, scene: &Scene, path: &std::path::Path, spp: u32) -> Result<()> {
         let (w, h) = (scene.camera.width, scene.camera.height);
         crate::sampling::check_memory(w, h, scene.render.sampler, spp, scene.render.subsample)
-            .map_err(|m| {
-                if self.width.is_some() || self.height.is_some() || self.spp.is_some() {
-                    Error::arg("--width/--height/--spp", m)
-                } else {
-                    Error::input(path, "camera", m)
-                }
-            })
+            .map_err(|m| self.memory_error(path, m))
+    }
+
+    /// [`RenderArgs::check_memory`] for an AOV of the scene rendered with `settings`.
+    pub fn check_aov_memory(
+        &self,
+        scene: &Scene,
+        path: &std::path::Path,
+        settings: &crate::scene::RenderSettings,
+    ) -> Result<()> {
+        let (w, h) = (scene.camera.width, scene.camera.height);
+        crate::sampling::aov::check_memory(w, h, settings).map_err(|m| self.memory_error(path, m))
+    }
+
+    /// Too much memory: the arguments' fault when they set the size, else the scene's.
+    fn memory_error(&self, path: &std::path::Path, m: String) -> Error {
+        if self.width.is_some() || self.height.is_some() || self.spp.is_some() {
+            Error::arg("--width/--height/--spp", m)
+        } else {
+            Error::input(path, "camera", m)
+        }
     }
 
     /// Loads the scene (a scene file or a course `.ini`) and applies these options to it;

@@ -401,6 +401,20 @@ fn aov_sample(
     (camera.film, rec.take())
 }
 
+/// Refuses, before anything is allocated, an AOV that would not fit in memory: as
+/// [`super::check_memory`], but an AOV keeps every sample's whole record (its terms, its hit)
+/// until the image is made, several times the render's.
+pub fn check_memory(width: u32, height: u32, settings: &RenderSettings) -> Result<(), String> {
+    super::film::check_memory_kept(
+        (width, height),
+        settings.sampler,
+        settings.spp,
+        settings.subsample,
+        super::film::Kept::of::<(DVec2, AovSample)>(),
+    )
+    .map_err(|m| format!("{m} (an AOV keeps each sample's whole record until its image is made)"))
+}
+
 /// Image-wide values the false colours are scaled by.
 #[derive(Debug, Clone, Copy)]
 struct Ranges {

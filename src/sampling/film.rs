@@ -439,10 +439,31 @@ impl Firsts {
 /// sample of a traced pixel kept for reconstruction (film position and colour), and for
 /// every pixel its sample list, the linear image, the 8-bit image and its PNG encoding.
 pub fn memory_needed(width: u32, height: u32, spp: u32, subsample: u32) -> u64 {
-    let per_pixel = std::mem::size_of::<Vec<PixelSample>>() as u64
-        + 2 * std::mem::size_of::<DVec3>() as u64
-        + 2 * 3;
-    let per_traced = std::mem::size_of::<PixelSample>() as u64 * spp as u64;
+    memory_kept(width, height, spp, subsample, Kept::of::<PixelSample>())
+}
+
+/// What a render keeps of each sample until its image is made: the bytes of one sample's
+/// record and of one pixel's list of them.
+#[derive(Clone, Copy)]
+pub(crate) struct Kept {
+    pub sample: u64,
+    pub list: u64,
+}
+
+impl Kept {
+    /// Records of type `T`, in a `Vec<T>` per pixel.
+    pub(crate) fn of<T>() -> Kept {
+        Kept {
+            sample: std::mem::size_of::<T>() as u64,
+            list: std::mem::size_of::<Vec<T>>() as u64,
+        }
+    }
+}
+
+/// [`memory_needed`] for samples kept as `kept` says.
+fn memory_kept(width: u32, height: u32, spp: u32, subsample: u32, kept: Kept) -> u64 {
+    let per_pixel = kept.list + 2 * std::mem::size_of::<DVec3>() as u64 + 2 * 3;
+    let per_traced = kept.sample * spp as u64;
     let traced = traced_lines(width, subsample) * traced_lines(height, subsample);
     width as u64 * height as u64 * per_pixel + traced * per_traced
 }
@@ -466,8 +487,25 @@ pub fn check_memory(
     spp: u32,
     subsample: u32,
 ) -> Result<(), String> {
+    check_memory_kept(
+        (width, height),
+        sampler,
+        spp,
+        subsample,
+        Kept::of::<PixelSample>(),
+    )
+}
+
+/// [`check_memory`] for samples kept as `kept` says (an AOV keeps more of each).
+pub(crate) fn check_memory_kept(
+    (width, height): (u32, u32),
+    sampler: crate::scene::SamplerKind,
+    spp: u32,
+    subsample: u32,
+    kept: Kept,
+) -> Result<(), String> {
     let most = super::sampler::most_samples(sampler, spp);
-    let need = memory_needed(width, height, most, subsample);
+    let need = memory_kept(width, height, most, subsample, kept);
     if need > MEMORY_BUDGET {
         let gib = |b: u64| b as f64 / (1u64 << 30) as f64;
         let samples = match most == spp {

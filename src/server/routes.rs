@@ -409,6 +409,8 @@ async fn render(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Res
             )?;
         }
         if let Some(aov) = aov {
+            crate::sampling::aov::check_memory(s.camera.width, s.camera.height, &settings)
+                .map_err(|m| Fail::from(Error::arg("aov", m)))?;
             let made = render_aov(&s, &settings, aov);
             *legend_out.lock().expect("the legend's lock") = Some(made.legend);
             return png(&made.image);

@@ -798,6 +798,18 @@ fn cases() -> Vec<Case> {
             vec!["argument --time-budget", "\"0\" is not a time", "seconds > 0"],
         ),
         c(
+            "an AOV too big for memory (an AOV keeps each sample's whole record)",
+            s(obj(SPHERE)),
+            vec!["render", "scene.json", "--aov", "depth", "--width", "4000", "--height", "4000", "--spp", "16", "--sampler", "grid"],
+            vec!["argument --width/--height/--spp", "GiB of memory"],
+        ),
+        c(
+            "a time budget whose first pass is too big for memory",
+            s(obj(SPHERE)),
+            vec!["render", "scene.json", "--time-budget", "1", "--width", "8000", "--height", "8000", "--spp", "256", "--sampler", "grid"],
+            vec!["argument --time-budget", "pass 1:", "GiB of memory"],
+        ),
+        c(
             "a time budget for an AOV",
             s(obj(SPHERE)),
             vec!["render", "scene.json", "--time-budget", "1", "--aov", "depth"],

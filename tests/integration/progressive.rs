@@ -414,3 +414,32 @@ fn a_render_stopped_while_reconstructing_gives_no_image() {
         assert!(render_until(&scene, &settings, Counting::Off, None, &stop_past_the_end).is_some());
     }
 }
+
+/// Pass 1 is a quarter of the width and height of the scene's render: `--passes 1` (and a
+/// budget, whose pass 1 always completes) renders it where the scene's own render would not
+/// fit in memory (both were refused with the full render's estimate).
+#[test]
+fn a_first_pass_renders_where_the_full_image_would_not_fit() {
+    let scene = write_tmp(
+        "one-sphere-big.json",
+        r#"{"camera": {"position": [0, 0, 4], "look_at": [0, 0, 0], "width": 1600, "height": 1600, "fov_y": 30},
+ "render": {"spp": 64, "sampler": "grid"},
+ "objects": [{"shape": "sphere", "center": [0, 0, 0], "radius": 1}]}"#,
+    );
+    let out = tmp("one-sphere-big.png");
+    let run = |extra: &[&str]| {
+        let mut args = vec!["render", scene.to_str().unwrap(), "--quiet", "-o"];
+        args.push(out.to_str().unwrap());
+        args.extend(extra);
+        rtlab(&args)
+    };
+    let full = run(&[]);
+    assert_eq!(full.status.code(), Some(2));
+    assert!(stderr(&full).contains("GiB of memory"), "{}", stderr(&full));
+    let first = run(&["--passes", "1"]);
+    assert!(first.status.success(), "{}", stderr(&first));
+    let one = std::fs::read(&out).unwrap();
+    let budget = run(&["--time-budget", "0.01"]);
+    assert!(budget.status.success(), "{}", stderr(&budget));
+    assert_eq!(std::fs::read(&out).unwrap(), one, "the budget wrote pass 1");
+}
