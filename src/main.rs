@@ -14,15 +14,21 @@ fn main() -> ExitCode {
     rtlab::interrupt::install();
     let cli = match rtlab::cli::Cli::try_parse() {
         Ok(cli) => cli,
-        Err(e) => match rtlab::cli::refused_value(&e) {
-            // A value rtlab's own parser refused: one line, as every other bad input.
-            Some(line) => {
-                eprintln!("error: {}", rtlab::error::printable(&line));
-                return ExitCode::from(2);
+        Err(e) => {
+            use clap::error::ErrorKind::{
+                DisplayHelp, DisplayHelpOnMissingArgumentOrSubcommand, DisplayVersion,
+            };
+            match e.kind() {
+                // --help and --version (status 0), or the help for a bare `rtlab`: clap's own.
+                DisplayHelp | DisplayVersion | DisplayHelpOnMissingArgumentOrSubcommand => e.exit(),
+                // A bad command line: one line, as every other bad input.
+                _ => {
+                    let line = rtlab::cli::usage_line(&e);
+                    eprintln!("error: {}", rtlab::error::printable(&line));
+                    return ExitCode::from(2);
+                }
             }
-            // Usage errors (status 2), --help and --version (status 0): clap's own words.
-            None => e.exit(),
-        },
+        }
     };
     if let Err(v) = rtlab::accel::isa::simd_cap() {
         eprintln!(

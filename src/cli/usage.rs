@@ -34,12 +34,74 @@ pub fn refused_value(e: &clap::Error) -> Option<String> {
     Some(format!("argument {flag}: {why}"))
 }
 
-/// The line a usage error shows, without its "error: ": [`refused_value`]'s, or the first of
-/// clap's.
+/// The line a usage error shows, without its "error: ": [`refused_value`]'s, or clap's
+/// message on one line: its first paragraph joined ("the following required arguments were
+/// not provided: <SCENE>") and its tip in brackets, without the usage and the pointer to
+/// `--help` that clap adds around them.
 pub fn usage_line(e: &clap::Error) -> String {
-    refused_value(e).unwrap_or_else(|| {
-        let text = e.render().to_string();
-        let line = text.lines().next().unwrap_or("bad option");
-        line.trim_start_matches("error: ").to_string()
-    })
+    refused_value(e).unwrap_or_else(|| one_line(&e.render().to_string()))
+}
+
+/// clap's rendered error on one line ([`usage_line`]).
+fn one_line(text: &str) -> String {
+    let text = text.trim_start_matches("error: ");
+    let message: Vec<&str> = text
+        .lines()
+        .take_while(|l| !l.trim().is_empty())
+        .map(str::trim)
+        .collect();
+    let message = match message.join(" ") {
+        m if m.is_empty() => "bad option".to_string(),
+        m => m,
+    };
+    let tip = text
+        .lines()
+        .map(str::trim)
+        .find_map(|l| l.strip_prefix("tip: "));
+    match tip {
+        // clap's advice to write `-- -4` would make the value the scene's name: a negative
+        // number after an option that takes none is said as such; an unknown `--flag`
+        // needs no advice to pass it as a value.
+        Some(t) if t.starts_with("to pass '") => match negative_number(t) {
+            true => format!("{message}: no option here takes a negative number"),
+            false => message,
+        },
+        Some(t) => format!("{message} (tip: {t})"),
+        None => message,
+    }
+}
+
+/// Does the tip "to pass 'X' as a value, …" name a number?
+fn negative_number(tip: &str) -> bool {
+    let value = tip
+        .trim_start_matches("to pass '")
+        .split('\'')
+        .next()
+        .unwrap_or("");
+    value.parse::<f64>().is_ok()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::one_line;
+
+    #[test]
+    fn clap_errors_on_one_line() {
+        assert_eq!(
+            one_line("error: the following required arguments were not provided:\n  <SCENE>\n\nUsage: rtlab render <SCENE>\n\nFor more information, try '--help'.\n"),
+            "the following required arguments were not provided: <SCENE>"
+        );
+        assert_eq!(
+            one_line("error: unexpected argument '--sspp' found\n\n  tip: a similar argument exists: '--spp'\n\nUsage: rtlab render --spp <SPP> <SCENE>\n\nFor more information, try '--help'.\n"),
+            "unexpected argument '--sspp' found (tip: a similar argument exists: '--spp')"
+        );
+        assert_eq!(
+            one_line("error: unexpected argument '-4' found\n\n  tip: to pass '-4' as a value, use '-- -4'\n\nUsage: rtlab render [OPTIONS] <SCENE>\n"),
+            "unexpected argument '-4' found: no option here takes a negative number"
+        );
+        assert_eq!(
+            one_line("error: unexpected argument '-x' found\n\n  tip: to pass '-x' as a value, use '-- -x'\n"),
+            "unexpected argument '-x' found"
+        );
+    }
 }

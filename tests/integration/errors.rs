@@ -588,6 +588,24 @@ fn cases() -> Vec<Case> {
             vec!["--sspp", "--spp"],
         ),
         c(
+            "a negative number of samples",
+            s(obj(SPHERE)),
+            vec!["render", "scene.json", "-o", "good.png", "--spp", "-4"],
+            vec!["'-4'", "no option here takes a negative number"],
+        ),
+        c(
+            "one option given twice",
+            s(obj(SPHERE)),
+            vec!["render", "scene.json", "-o", "good.png", "--traversal", "single", "--traversal", "bundle"],
+            vec!["--traversal", "cannot be used multiple times"],
+        ),
+        c(
+            "no scene",
+            s(obj(SPHERE)),
+            vec!["render"],
+            vec!["required arguments were not provided: <SCENE>"],
+        ),
+        c(
             "--threads 0",
             s(obj(SPHERE)),
             vec!["render", "scene.json", "-o", "good.png", "--threads", "0", "--quiet"],
@@ -901,11 +919,15 @@ fn run_cases() -> Vec<(String, String, String)> {
             ));
         }
         let _ = std::fs::remove_dir_all(&dir);
-        // clap's usage errors are several lines: the table shows the first and clap's tip.
-        let mut first = msg.lines().next().unwrap_or("").to_string();
-        if let Some(tip) = msg.lines().find_map(|l| l.trim().strip_prefix("tip: ")) {
-            first += &format!(" (tip: {tip})");
+        // Every message is one line, clap's usage errors too (the table shows it whole).
+        if msg.trim_end().lines().count() != 1 {
+            failures.push(format!(
+                "{} (`rtlab {}`): not one line:\n{msg}",
+                case.kind,
+                case.args.join(" ")
+            ));
         }
+        let first = msg.lines().next().unwrap_or("").to_string();
         // A control character in an argument is shown as a shell writes it: $'…\e…'.
         let shown: Vec<String> = case
             .args
