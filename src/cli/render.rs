@@ -406,11 +406,12 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
         } else {
             let r = stats.rays;
             let bundle_line = if b.bundles > 0 {
-                // Fewer than sixteen under a coarse --subsample: a tile's traced pixels.
-                let size = if b.most as usize == crate::accel::BUNDLE {
-                    format!("of up to {}", b.most)
+                // Fewer than sixteen at the image's edges, and under --subsample (a tile's
+                // traced pixels): the average says how full they were.
+                let mean = b.rays as f64 / b.bundles as f64;
+                let size = if b.rays == b.bundles * b.most as u64 {
+                    format!("of {}", b.most)
                 } else {
-                    let mean = b.rays as f64 / b.bundles as f64;
                     format!("of {mean:.1} rays on average (up to {})", b.most)
                 };
                 format!(
@@ -436,9 +437,15 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
                 (None, Some((k, ..))) => format!("pass {k}: "), // --passes K traces pass K only
                 _ => String::new(),
             };
+            // Bundles asked for and none made (the line after says why): every ray went alone.
+            let traversal = match (traversal, b.bundles) {
+                ("bundle", 0) if r.camera > 0 => "bundle traversal asked, every ray alone",
+                ("bundle", _) => "bundle traversal",
+                _ => "single traversal",
+            };
             eprintln!(
                 "{of_pass}rays: {} camera, {} shadow, {} reflection, {} refraction, {} total\n\
-                 intersection tests: {}, BVH nodes visited: {} ({:.1} per ray, {traversal} traversal)\n\
+                 intersection tests: {}, BVH nodes visited: {} ({:.1} per ray, {traversal})\n\
                  {bundle_line}\
                  time: load {:.3} s (of which building the BVHs {:.3} s), trace {:.3} s ({:.2} Mrays/s)",
                 r.camera,

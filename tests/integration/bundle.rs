@@ -389,12 +389,16 @@ fn stats_say_why_no_bundles_were_traced() {
     ] {
         let err = stats_of(&extra);
         let said = err.contains(&format!("no bundles: {why}"));
-        assert!(said && !err.contains("bundles of up to"), "{err}");
+        assert!(said && !err.contains(" bundles of "), "{err}");
+        assert!(
+            err.contains("bundle traversal asked, every ray alone"),
+            "{err}"
+        );
     }
     // With bundles traced, no such line.
     let err = stats_of(&[]);
     assert!(
-        !err.contains("no bundles") && err.contains("bundles of up to"),
+        !err.contains("no bundles") && err.contains(" bundles of 16 ("),
         "{err}"
     );
     // JSON says it too, and with which subsample the pass written was traced.
@@ -759,7 +763,14 @@ fn stats_say_how_many_rays_a_subsampled_bundle_held() {
         stderr(&o) + &String::from_utf8_lossy(&o.stdout)
     };
     let full = run(&[]);
-    assert!(full.contains("in 19200 bundles of up to 16 ("), "{full}");
+    // Every bundle full (640×480 is 4×4 blocks exactly): no average to give.
+    assert!(full.contains("in 19200 bundles of 16 ("), "{full}");
+    // An image whose edges cut blocks: the average says how full they were.
+    let edges = run(&["--width", "50", "--height", "50"]);
+    assert!(
+        edges.contains("in 169 bundles of 14.8 rays on average (up to 16)"),
+        "{edges}"
+    );
     let k8 = run(&["--subsample", "8"]);
     assert!(
         k8.contains("in 1200 bundles of 4.1 rays on average (up to 9)"),
