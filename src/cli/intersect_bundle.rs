@@ -70,10 +70,13 @@ pub fn bundle_and_box(args: &Args, to: &str) -> Result<(Vec<Ray>, Aabb)> {
             Ray::new(origin, first + (last - first) * s)
         })
         .collect();
-    if rays.iter().any(|r| r.dir.length() < MIN_LENGTH) {
+    if let Some(i) = rays.iter().position(|r| r.dir.length() < MIN_LENGTH) {
         return Err(Error::arg(
             "--bundle-to",
-            "a direction between --dir and --bundle-to is zero: they must not point opposite ways",
+            format!(
+                "ray {i}'s direction, between --dir and --bundle-to, is shorter than {MIN_LENGTH:e}: \
+                 they must not point (nearly) opposite ways, and not be that short themselves"
+            ),
         ));
     }
     Ok((rays, Aabb::new(min, max)))

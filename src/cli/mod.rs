@@ -130,7 +130,7 @@ pub fn emit(out: &mut dyn Write, text: &str) -> Result<()> {
         .and_then(|()| out.flush())
         .map_err(|e| match e.kind() {
             std::io::ErrorKind::BrokenPipe => Error::OutputClosed,
-            _ => Error::Other(format!("cannot write the output: {e}")),
+            _ => Error::Other(format!("cannot write to standard output: {e}")),
         })
 }
 

@@ -374,7 +374,14 @@ impl RenderArgs {
         if let Some(n) = self.spp {
             r.spp = n;
         }
-        crate::sampling::validate_spp(r.sampler, r.spp).map_err(|m| Error::arg("--spp", m))?;
+        crate::sampling::validate_spp(r.sampler, r.spp).map_err(|m| match self.spp {
+            Some(_) => Error::arg("--spp", m),
+            // The count is the scene's: the sampler chosen here does not take it.
+            None => Error::arg(
+                "--sampler",
+                format!("{m} (the scene's spp; give --spp too)"),
+            ),
+        })?;
         if let Some(d) = self.max_depth {
             r.max_depth = d;
         }

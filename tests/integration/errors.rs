@@ -588,6 +588,15 @@ fn cases() -> Vec<Case> {
             vec!["--sspp", "--spp"],
         ),
         c(
+            "a sampler that does not take the scene's spp",
+            s(String::from_utf8(obj(SPHERE))
+                .unwrap()
+                .replace("\"objects\"", "\"render\": {\"spp\": 4, \"sampler\": \"grid\"}, \"objects\"")
+                .into_bytes()),
+            vec!["render", "scene.json", "-o", "good.png", "--sampler", "center"],
+            vec!["argument --sampler", "found 4", "the scene's spp"],
+        ),
+        c(
             "a negative number of samples",
             s(obj(SPHERE)),
             vec!["render", "scene.json", "-o", "good.png", "--spp", "-4"],
@@ -702,7 +711,7 @@ fn cases() -> Vec<Case> {
             "a bundle whose directions pass through zero",
             vec![],
             vec!["intersect", "box", "--origin", "0,0,-5", "--dir", "0,0,1", "--bundle-to", "0,0,-1", "--rays", "3"],
-            vec!["--bundle-to", "a direction between --dir and --bundle-to is zero"],
+            vec!["--bundle-to", "ray 1's direction, between --dir and --bundle-to, is shorter than"],
         ),
         c(
             "a solid's --spec that is a folder",
