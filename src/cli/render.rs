@@ -377,8 +377,10 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
         });
         // Why the camera rays went alone although bundles were asked for (JSON; the text
         // says it in words below).
-        let alone = crate::sampling::bundles::alone_because(&scene.render)
-            .filter(|_| scene.render.traversal == Traversal::Bundle);
+        let alone = match scene.render.traversal {
+            Traversal::Single => Some("--traversal single sends every ray alone"),
+            Traversal::Bundle => crate::sampling::bundles::alone_because(&scene.render),
+        };
         if format == "json" {
             let v = json!({
                 "rays": stats.rays,

@@ -419,6 +419,12 @@ fn stats_say_why_no_bundles_were_traced() {
             .contains("adaptive sampler"),
         "{v}"
     );
+    let v = json(&["--traversal", "single"]);
+    assert!(v["bundles"].is_null(), "{v}");
+    assert_eq!(
+        v["bundles_alone_because"],
+        "--traversal single sends every ray alone"
+    );
     let v = json(&["--passes", "1"]);
     assert!(v["bundles_alone_because"].is_null() && v["bundles"]["count"].as_u64() > Some(0));
     assert_eq!(
