@@ -374,11 +374,18 @@ async fn render(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Res
         stream,
         flag: cancel.clone(),
     };
-    // An AOV's legend (how to read its colours, with the ranges used: what `rtlab render
-    // --aov` prints on stderr) goes back in a header beside the image.
-    let legend = Arc::new(std::sync::Mutex::new(None::<String>));
-    let legend_out = legend.clone();
+    // Headers beside the image: an AOV's legend (how to read its colours, with the ranges
+    // used: what `rtlab render --aov` prints on stderr), and pass K's settings as the options
+    // that give them (for the page to explain the pixels of the image it shows).
+    let headers = Arc::new(std::sync::Mutex::new(Vec::<(&'static str, String)>::new()));
+    let headers_out = headers.clone();
     let mut response = run(state, move |st| {
+        let add = |name, value| {
+            headers_out
+                .lock()
+                .expect("the headers' lock")
+                .push((name, value))
+        };
         let aov = q.own.get("aov").map(|a| Aov::parse_arg(a)).transpose()?;
         let pass = q
             .own
@@ -400,6 +407,7 @@ async fn render(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Res
             None => s.render.clone(),
         };
         if let Some(k) = pass {
+            add(PASS_OPTIONS, pass_options(&s.render, &settings));
             let (w, h) = (s.camera.width, s.camera.height);
             super::state::check_count(
                 w as u64 * h as u64 * settings.spp as u64,
@@ -412,7 +420,7 @@ async fn render(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Res
             crate::sampling::aov::check_memory(s.camera.width, s.camera.height, &settings)
                 .map_err(|m| Fail::from(Error::arg("aov", m)))?;
             let made = render_aov(&s, &settings, aov);
-            *legend_out.lock().expect("the legend's lock") = Some(made.legend);
+            add(AOV_LEGEND, made.legend);
             return png(&made.image);
         }
         match crate::sampling::render_cancellable(&s, &settings, &cancel) {
@@ -424,12 +432,13 @@ async fn render(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Res
         }
     })
     .await;
-    let legend = legend.lock().expect("the legend's lock").take();
-    if let Some(text) = legend.filter(|_| response.status().is_success()) {
-        // Form-encoded: a header is ASCII, and the legend has arrows and middle dots.
-        let encoded: String = form_urlencoded::byte_serialize(text.as_bytes()).collect();
-        if let Ok(value) = header::HeaderValue::from_str(&encoded) {
-            response.headers_mut().insert(AOV_LEGEND, value);
+    if response.status().is_success() {
+        for (name, text) in headers.lock().expect("the headers' lock").drain(..) {
+            // Form-encoded: a header is ASCII, and a legend has arrows and middle dots.
+            let encoded: String = form_urlencoded::byte_serialize(text.as_bytes()).collect();
+            if let Ok(value) = header::HeaderValue::from_str(&encoded) {
+                response.headers_mut().insert(name, value);
+            }
         }
     }
     response
@@ -437,6 +446,31 @@ async fn render(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Res
 
 /// The header of an AOV's legend on `/api/render.png?aov=NAME` (form-encoded UTF-8).
 pub(super) const AOV_LEGEND: &str = "x-rtlab-aov-legend";
+
+/// The header of `/api/render.png?pass=K`: the render options that give pass K's settings
+/// (form-encoded, e.g. `subsample=4` or `sampler=grid&spp=16`; empty for pass 2), so that
+/// `/api/explain` with them explains the pixels of that image, as `rtlab explain` with the
+/// same options does.
+pub(super) const PASS_OPTIONS: &str = "x-rtlab-pass-options";
+
+/// The options that turn `base` into `pass` (what [`crate::sampling::progressive::pass_settings`]
+/// changes: the subsample, the sampler and its samples per pixel).
+fn pass_options(
+    base: &crate::scene::RenderSettings,
+    pass: &crate::scene::RenderSettings,
+) -> String {
+    let mut o = Vec::new();
+    if pass.subsample != base.subsample {
+        o.push(format!("subsample={}", pass.subsample));
+    }
+    if pass.sampler != base.sampler {
+        o.push(format!("sampler={}", pass.sampler.name()));
+    }
+    if pass.spp != base.spp {
+        o.push(format!("spp={}", pass.spp));
+    }
+    o.join("&")
+}
 
 /// The steps frames of the scene with these options (rendered once, then kept).
 fn frames(st: &State, q: &Params) -> std::result::Result<Frames, Fail> {

@@ -338,6 +338,62 @@ fn the_page_in_a_real_browser() {
         .unwrap();
         wait_js(&c, "return document.getElementById('aov-legend').hidden && document.getElementById('render-state').textContent.startsWith('pass 2') && !document.getElementById('render-state').textContent.includes('--aov');", "the colour image again").await;
 
+        // Refine: passes 3, 4, … while the seconds last; the last complete pass stays, and
+        // it is `render --passes K`'s image, its pixels explained with that pass's settings.
+        c.execute(
+            "const r = document.getElementById('opt-refine'); r.value = '2'; r.dispatchEvent(new Event('change'));",
+            vec![],
+        )
+        .await
+        .unwrap();
+        let status = wait_js(
+            &c,
+            "const s = document.getElementById('render-state').textContent; return /^pass [0-9]+, .*; (the 2 s were spent|pass [0-9]+ abandoned at the 2 s|no pass)/.test(s) ? s : '';",
+            "the refined passes' end",
+        )
+        .await;
+        let status = status.as_str().unwrap().to_string();
+        let k: u32 = status["pass ".len()..].split(',').next().unwrap().parse().unwrap();
+        assert!(k >= 3, "{status}");
+        assert!(status.contains(&format!("(= rtlab render --passes {k})")), "{status}");
+        let (_, _, refined) = page_image(&c, "no-shadows").await;
+        let k_arg = k.to_string();
+        assert_eq!(refined, cli_render(&scene, &["--no-shadows", "--passes", &k_arg]).into_raw(), "pass {k}");
+        let pass_options: String = c
+            .execute("return window.rtlab.state.passOptions;", vec![])
+            .await
+            .unwrap()
+            .as_str()
+            .unwrap()
+            .to_string();
+        click_pixel(&c, x, y).await;
+        let sum = wait_js(
+            &c,
+            "const p = document.getElementById('pixel-sum'); return p !== null && !document.getElementById('explanation').hidden && document.getElementById('samples').textContent.includes('film point') && document.querySelectorAll('#samples tr').length > 3 ? p.dataset.rgb : '';",
+            "the refined pixel's explanation",
+        )
+        .await;
+        let mut args = vec!["explain".to_string(), scene.to_str().unwrap().to_string(), "--no-shadows".into(), "--pixel".into(), format!("{x},{y}"), "--format".into(), "json".into()];
+        for kv in pass_options.split('&') {
+            let (key, value) = kv.split_once('=').unwrap();
+            args.extend([format!("--{key}"), value.to_string()]);
+        }
+        let o = rtlab(&args.iter().map(String::as_str).collect::<Vec<_>>());
+        assert!(o.status.success(), "{}", stderr(&o));
+        let e: Value = serde_json::from_slice(&o.stdout).unwrap();
+        let sum = rgb_attr(&sum);
+        for ch in 0..3 {
+            assert!((sum[ch] - e["color"][ch].as_f64().unwrap()).abs() < 1e-12, "{sum:?} vs {} ({pass_options})", e["color"]);
+        }
+        screenshot(&c, "serve-refined.png").await;
+        c.execute(
+            "const r = document.getElementById('opt-refine'); r.value = ''; r.dispatchEvent(new Event('change'));",
+            vec![],
+        )
+        .await
+        .unwrap();
+        wait_js(&c, "return document.getElementById('render-state').textContent.startsWith('pass 2, the full image');", "the full image again").await;
+
         // Steps: the scrubber walks `rtlab steps`' frames.
         c.find(Locator::Css("nav button[data-mode='steps']"))
             .await

@@ -204,6 +204,13 @@ fn render_and_explain_are_the_clis_bytes() {
     assert!(o.status.success());
     let r = s.get("/api/render.png?aov=normal");
     assert_eq!(r.body, std::fs::read(&out).unwrap());
+    // Its legend, the line render --aov prints, comes in a header (form-encoded).
+    let legend = r
+        .headers
+        .lines()
+        .find_map(|l| l.strip_prefix("x-rtlab-aov-legend: "))
+        .unwrap_or_else(|| panic!("{}", r.headers));
+    assert!(legend.starts_with("normal%3A+"), "{legend}");
 
     // The page's preview and full image are passes 1 and 2 of `render --passes K`.
     for k in ["1", "2", "3"] {
@@ -221,6 +228,18 @@ fn render_and_explain_are_the_clis_bytes() {
         assert!(o.status.success(), "{}", stderr(&o));
         let r = s.get(&format!("/api/render.png?pass={k}"));
         assert_eq!(r.status, 200, "pass {k}: {}", r.text());
+        // The options that make pass K's settings, to explain its pixels with.
+        let options = r
+            .headers
+            .lines()
+            .find_map(|l| l.strip_prefix("x-rtlab-pass-options: "))
+            .map(|v| v.trim_end());
+        let want = match k {
+            "1" => "subsample%3D4",
+            "2" => "",
+            _ => "sampler%3Dgrid%26spp%3D4",
+        };
+        assert_eq!(options, Some(want), "pass {k}: {}", r.headers);
         assert_eq!(
             r.body,
             std::fs::read(&out).unwrap(),

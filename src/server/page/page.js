@@ -12,6 +12,7 @@ const state = {
   image: null,          // ImageBitmap of the image shown
   pixels: null,         // its RGBA bytes (ImageData)
   kind: "",             // "preview" or "full"
+  passOptions: "",      // the options that give the pass shown (its x-rtlab-pass-options)
   width: 0, height: 0,
   zoom: 1, panX: 0, panY: 0, fitted: true,
   selected: null,       // {x, y}
@@ -90,6 +91,18 @@ async function buildControls() {
     ...options.aov.map((a) => el("option", { value: a }, a)));
   aov.addEventListener("change", rerender);
   sw.append(el("label", { title: "an arbitrary output variable instead of the colour (render --aov)" }, "AOV ", aov));
+  // As many samples as time permits: after the full image, passes 3, 4, … (4× the samples
+  // each) until this many seconds have gone; the last complete pass stays (render --time-budget).
+  const refine = el("input", { type: "number", id: "opt-refine", min: "0", step: "0.5", placeholder: "off" });
+  refine.addEventListener("change", rerender);
+  sw.append(el("label", { title: "after the full image, keep refining with passes 3, 4, … (4× the samples each) until this many seconds have gone; the last complete pass stays, = rtlab render --passes K" }, "refine (s) ", refine));
+}
+
+// The query that explains the pixels of the image shown: the page's options, with those of
+// the pass shown (its subsample, sampler and spp) in their place.
+function shownQuery() {
+  const pass = new URLSearchParams(state.passOptions || "");
+  return join(renderQuery([...pass.keys()]), state.passOptions || "");
 }
 
 // The render options chosen on the page, as a query string (flags as bare keys).
@@ -197,8 +210,12 @@ async function loadImage(url, signal) {
   if (!r.ok) throw new Error((await r.text()).trim());
   const bmp = await createImageBitmap(await r.blob(), { colorSpaceConversion: "none", premultiplyAlpha: "none" });
   // An AOV's legend: how to read its colours, as `rtlab render --aov` prints it.
-  const legend = r.headers.get("x-rtlab-aov-legend");
-  bmp.legend = legend === null ? null : decodeURIComponent(legend.replace(/\+/g, " "));
+  const header = (name) => {
+    const v = r.headers.get(name);
+    return v === null ? null : decodeURIComponent(v.replace(/\+/g, " "));
+  };
+  bmp.legend = header("x-rtlab-aov-legend");
+  bmp.passOptions = header("x-rtlab-pass-options") || "";
   return bmp;
 }
 
@@ -210,7 +227,7 @@ function show(bmp, kind, query, w, h) {
   const octx = off.getContext("2d");
   octx.imageSmoothingEnabled = false;
   octx.drawImage(bmp, 0, 0, w, h);
-  state.image = off; state.kind = kind;
+  state.image = off; state.kind = kind; state.passOptions = bmp.passOptions || "";
   state.width = w; state.height = h;
   state.pixels = octx.getImageData(0, 0, w, h, { colorSpace: "srgb" });
   view.dataset.state = kind;
@@ -269,11 +286,57 @@ async function rerender() {
     setStatus(`pass 2, the full image (= rtlab render${cli}), ${state.width}×${state.height}, ${Math.round(performance.now() - t0)} ms` + (q ? "  ·  " + q : ""));
     if (state.selected) explain();
     if (!$("steps").hidden) loadSteps();
+    await refinePasses(q, own, cli, controller, stale, t0);
   } catch (e) {
     if (e.name === "AbortError" || stale()) return;
     view.dataset.state = "error";
     setStatus(e.message, true);
   }
+}
+
+// Passes 3, 4, … after the full image while the "refine for" seconds last (counted from the
+// first pass, as render --time-budget counts): each pass is asked for with its deadline, and
+// one still running at the deadline is abandoned; the last complete pass stays, with its
+// --passes K.
+async function refinePasses(q, own, cli, controller, stale, t0) {
+  const seconds = Number($("opt-refine").value);
+  if (!(seconds > 0)) return;
+  const deadline = t0 + seconds * 1000;
+  for (let k = 3; ; k++) {
+    const left = deadline - performance.now();
+    if (left <= 0) { setStatus(statusOf(k - 1, cli, t0, `the ${seconds} s were spent`)); return; }
+    const pass = new AbortController();
+    const parent = () => pass.abort();
+    controller.signal.addEventListener("abort", parent);
+    let late = false;
+    const timer = setTimeout(() => { late = true; pass.abort(); }, left);
+    setStatus(statusOf(k - 1, cli, t0, `pass ${k} (4× the samples)…`));
+    try {
+      const img = await loadImage("/api/render.png?" + join(q, `pass=${k}`, own), pass.signal);
+      if (stale() || !img) return;
+      show(img, "full", q);
+      showLegend(img.legend);
+      if (state.selected) explain();
+    } catch (e) {
+      if (stale()) return;
+      if (e.name !== "AbortError" || !late) {
+        // The sequence's end (the samplers' or the page's limits): said, and the pass stays.
+        setStatus(statusOf(k - 1, cli, t0, `no pass ${k}: ${e.message.replace(/^error: /, "")}`));
+        return;
+      }
+      setStatus(statusOf(k - 1, cli, t0, `pass ${k} abandoned at the ${seconds} s`));
+      return;
+    } finally {
+      clearTimeout(timer);
+      controller.signal.removeEventListener("abort", parent);
+    }
+  }
+}
+
+// "pass K (= rtlab render --passes K), …": the pass shown and how to make it again.
+function statusOf(k, cli, t0, then) {
+  const what = k === 2 ? "the full image" : `${state.passOptions.replace(/&/g, ", ").replace(/=/g, " ")}`;
+  return `pass ${k}, ${what} (= rtlab render --passes ${k}${cli}), after ${Math.round(performance.now() - t0)} ms; ${then}`;
 }
 
 function showSceneInfo(s) {
@@ -294,7 +357,7 @@ function select(x, y) {
 
 async function explain() {
   const { x, y } = state.selected;
-  const q = renderQuery();
+  const q = shownQuery();
   const my = state.generation;
   try {
     const e = await getJson(`/api/explain?${join(`x=${x}&y=${y}`, q)}`);
@@ -400,7 +463,7 @@ function showLedger(s) {
 function showDiagram() {
   const { x, y } = state.selected;
   const hl = state.highlight === null ? "" : `highlight=${state.highlight}`;
-  $("diagram").src = `/api/diagram.png?${join(`x=${x}&y=${y}`, `sample=${state.sample}`, "plane=" + $("plane").value, hl, renderQuery())}`;
+  $("diagram").src = `/api/diagram.png?${join(`x=${x}&y=${y}`, `sample=${state.sample}`, "plane=" + $("plane").value, hl, shownQuery())}`;
 }
 $("plane").addEventListener("change", () => { if (state.selected) showDiagram(); });
 
