@@ -277,6 +277,8 @@ fn the_page_in_a_real_browser() {
         // The ledger's lines are on the page.
         let ledger = c.find(Locator::Id("ledger")).await.unwrap().text().await.unwrap();
         assert!(ledger.contains("ambient") && ledger.contains("diffuse") && ledger.contains("sum"), "{ledger}");
+        // The specular exponent is the hit material's (the mirror ball's shininess, 120).
+        assert!(ledger.contains("^120 ="), "{ledger}");
         let tree = c
             .execute("return document.getElementById('tree').textContent;", vec![])
             .await

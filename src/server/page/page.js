@@ -340,6 +340,7 @@ function statusOf(k, cli, t0, then) {
 }
 
 function showSceneInfo(s) {
+  state.sceneInfo = s;
   $("scene-name").textContent = s.file.split(/[\\/]/).pop();
   $("scene-name").title = s.file + " (watched: save it to re-render)";
   const obj = s.objects.map((o) => `${o.name} (${o.shape}, ${o.material})`).join(", ");
@@ -436,6 +437,15 @@ function showGeneration(s) {
     el("li", {}, `points on the ray: P + t·d, t ≥ 0`)));
 }
 
+// The specular exponent n of the object's material, from the scene's description ("n" when
+// it is not known).
+function shininess(object) {
+  const info = state.sceneInfo;
+  const o = info && info.objects.find((x) => x.name === object);
+  const m = o && info.materials.find((x) => x.name === o.material);
+  return m && typeof m.shininess === "number" ? num(m.shininess) : "n";
+}
+
 function showLedger(s) {
   const r = s.ray;
   if (!r.shading) {
@@ -448,7 +458,7 @@ function showLedger(s) {
   for (const l of sh.lights) {
     const vis = l.visible ? (l.visibility < 1 ? `, ${num(l.visibility)} of it visible` : "") : ", in shadow";
     row(`light ${l.light}: diffuse`, `f_att ${num(l.attenuation)} · n·l ${num(l.n_dot_l)}${l.spot !== 1 ? " · spot " + num(l.spot) : ""}${vis}`, l.diffuse);
-    row(`light ${l.light}: specular`, `(r·v)^n = ${num(l.r_dot_v)}^n = ${num(l.r_dot_v_pow)}`, l.specular);
+    row(`light ${l.light}: specular`, `(r·v)^n = ${num(l.r_dot_v)}^${shininess(r.hit.object)} = ${num(l.r_dot_v_pow)}`, l.specular);
   }
   for (const l of sh.ignored_lights || []) row(`light ${l.light} (ignored)`, "left out by the settings: not added", add(l.diffuse, l.specular), "ignored");
   row("reflected", "ks·Or·I_r (the reflection ray's colour × its weight)", sh.reflected);
@@ -503,7 +513,11 @@ function rayTree(r, counter) {
 // kept or tossed and why; Cramer's rule for triangles.
 function testWorking(t, hit) {
   const won = hit && hit.object === t.object && t.t !== null && Math.abs(t.t - hit.t) < 1e-12;
-  const summary = `test ${t.object} (${t.shape}): ` + (t.t === null ? "no hit" : `t = ${num(t.t)}`) + (won ? " — closest, the hit" : "");
+  // A hit farther than one already found is not the test's answer (t is null), but it is
+  // not a miss either: say so, as the text of explain does.
+  const farther = t.t === null && (t.candidates || []).find((c) => (c.note || "").startsWith("tossed: farther"));
+  const found = t.t !== null ? `t = ${num(t.t)}` : farther ? `t = ${num(farther.t)}, farther than a hit already found` : "no hit";
+  const summary = `test ${t.object} (${t.shape}): ${found}` + (won ? " — closest, the hit" : "");
   const d = el("details", { class: "test" }, el("summary", {}, summary));
   if (t.quadratic) {
     const q = t.quadratic;
@@ -560,12 +574,30 @@ $("steps-play").addEventListener("click", () => {
 });
 
 // ---------------------------------------------------------------- compare
+// A comparison's two renders run on streams of their own: a newer comparison cancels them on
+// the server, and so does leaving the tab (`stopCompare`), so that they do not hold the
+// server's threads while Explore waits for an explanation.
+let compareController = null;
+function stopCompare() {
+  if (compareController) compareController.abort();
+  compareController = null;
+}
+
 async function runCompare() {
   $("cmp-error").textContent = "";
+  $("cmp-count").textContent = "";
+  stopCompare();
+  const controller = new AbortController();
+  compareController = controller;
   const base = renderQuery();
   try {
-    const [a, b] = await Promise.all(["cmp-a", "cmp-b"].map((id) => loadImage("/api/render.png?" + join(base, $(id).value.trim()))));
-    if (!a || !b) return;
+    const [a, b] = await Promise.all(["cmp-a", "cmp-b"].map((id) =>
+      loadImage("/api/render.png?" + join(base, $(id).value.trim(), `stream=${STREAM}-${id}`), controller.signal)));
+    if (!a || !b || controller.signal.aborted) return;
+    if (a.width !== b.width || a.height !== b.height) {
+      $("cmp-error").textContent = `A is ${a.width}×${a.height} and B ${b.width}×${b.height}: only images of one size compare pixel by pixel`;
+      return;
+    }
     const put = (img, bmp) => { const c = document.createElement("canvas"); c.width = bmp.width; c.height = bmp.height; c.getContext("2d").drawImage(bmp, 0, 0); img.src = c.toDataURL(); return c.getContext("2d").getImageData(0, 0, bmp.width, bmp.height); };
     const da = put($("cmp-img-a"), a), db = put($("cmp-img-b"), b);
     const diff = $("cmp-diff");
@@ -579,7 +611,9 @@ async function runCompare() {
     }
     diff.getContext("2d").putImageData(out, 0, 0);
     $("cmp-count").textContent = `(${count} of ${a.width * a.height} pixels differ)`;
-  } catch (e) { $("cmp-error").textContent = e.message; }
+  } catch (e) {
+    if (e.name !== "AbortError") $("cmp-error").textContent = e.message;
+  }
 }
 $("cmp-run").addEventListener("click", runCompare);
 
@@ -635,7 +669,7 @@ for (const b of document.querySelectorAll("nav button")) {
     document.querySelectorAll("nav button").forEach((x) => x.classList.toggle("on", x === b));
     for (const m of ["explore", "steps", "compare", "diff"]) $(m).hidden = m !== b.dataset.mode;
     if (b.dataset.mode === "steps") loadSteps();
-    if (b.dataset.mode === "compare") runCompare();
+    if (b.dataset.mode === "compare") runCompare(); else stopCompare();
     if (b.dataset.mode === "explore" && state.fitted) fit();
   });
 }
