@@ -423,8 +423,8 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
                     simd_lanes(),
                     per_bundle
                 )
-            } else if let Some(why) = crate::sampling::bundles::alone_because(&scene.render)
-                .filter(|_| scene.render.traversal == Traversal::Bundle && r.camera > 0)
+            } else if let Some(why) =
+                alone.filter(|_| scene.render.traversal == Traversal::Bundle && r.camera > 0)
             {
                 format!("no bundles: {why}, so every camera ray went alone\n")
             } else {

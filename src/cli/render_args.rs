@@ -379,7 +379,10 @@ impl RenderArgs {
             // The count is the scene's: the sampler chosen here does not take it.
             None => Error::arg(
                 "--sampler",
-                format!("{m} (the scene's spp; give --spp too)"),
+                format!(
+                    "{m} (the {} is the scene's spp: give --spp with --sampler)",
+                    r.spp
+                ),
             ),
         })?;
         if let Some(d) = self.max_depth {

@@ -127,12 +127,12 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
     }
     args.render
         .check_memory(&scene, &args.scene, scene.render.spp)?;
-    // Its visibility, depth and normal frames are AOVs, which keep more of each sample.
-    args.render
-        .check_aov_memory(&scene, &args.scene, &scene.render)?;
     if args.forward {
         return forward(&args, &scene, out);
     }
+    // Its visibility, depth and normal frames are AOVs, which keep more of each sample.
+    args.render
+        .check_aov_memory(&scene, &args.scene, &scene.render)?;
     let (frames, skipped) = match &args.pixel {
         Some(p) => {
             let (x, y) = parse_pixel(p, scene.camera.width, scene.camera.height)?;

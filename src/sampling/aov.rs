@@ -7,9 +7,10 @@
 //! Adding an AOV: one variant, one row in [`Aov::ALL`], one arm in [`Aov::display`].
 
 use super::bundles::{bundled, trace_bundled, BundleTally, TilePlan};
-use super::sampler::{standing_for, traces_samples};
+use super::reconstruct::{reconstruct_color, Kernel};
+use super::sampler::{planned_films_into, standing_for};
 use super::tiles::{tiles, Tile};
-use super::{pixel_samples, render_reconstruct, Filter};
+use super::{pixel_samples, Filter};
 use crate::math::Ray;
 use crate::scene::{Encoding, RenderSettings, Scene};
 use crate::shading::{LightTerm, Shading};
@@ -348,13 +349,16 @@ pub fn trace_aov_samples(scene: &Scene, settings: &RenderSettings) -> AovSamples
         .into_par_iter()
         .map(|tile| {
             let mut rec = AovRecorder::default();
-            // Under --subsample only some pixels trace, as in the render, whichever traversal.
+            // The render's own plan, whichever traversal: under --subsample only some pixels
+            // trace, and the corners sampler's shared corners are traced once, by the pixel
+            // that owns them. (The adaptive sampler decides while it traces: an AOV takes its
+            // first level, the pixel's four fixed samples.)
             let plan = TilePlan::of(&tile, |x, y| {
-                if traces_samples(settings, w, h, x, y) {
-                    pixel_samples(settings.sampler, settings.spp, settings.seed, x, y)
-                } else {
-                    Vec::new()
+                let mut films = Vec::new();
+                if !planned_films_into(settings, w, h, x, y, &mut films) {
+                    films = pixel_samples(settings.sampler, settings.spp, settings.seed, x, y);
                 }
+                films
             });
             let mut out: Vec<SamplesOf> = vec![Vec::new(); tile.len()];
             if bundled {
@@ -481,6 +485,7 @@ pub fn render_aov(scene: &Scene, base: &RenderSettings, aov: Aov) -> AovImage {
     // The render's own filter: stretched under --subsample, and reaching the corners
     // sampler's shared corners.
     let filter = Filter::for_settings(&settings);
+    let kernel = Kernel::new(&filter, settings.subsample);
     let colors = super::Image::from_fn(w, h, |x, y| {
         if aov == Aov::Cost {
             // Per pixel, not filtered: the work this pixel's samples caused (under
@@ -489,12 +494,13 @@ pub fn render_aov(scene: &Scene, base: &RenderSettings, aov: Aov) -> AovImage {
             let c = pixel_cost(&samples.pixels[(y * w + x) as usize]);
             return heat(c as f64 / ranges.max_cost.max(1) as f64);
         }
-        render_reconstruct(&filter, x, y, w, h, |qx, qy| {
+        // As the film reconstructs (the same sums: under --subsample only the pixels that
+        // trace are asked for samples).
+        reconstruct_color(&kernel, (x, y), (w, h), |qx, qy| {
             samples.pixels[(qy * w + qx) as usize]
                 .iter()
                 .map(|(film, s)| (*film, aov.display(s, &ranges), 1.0))
         })
-        .0
     })
     .pixels;
     let encoding = if aov.is_radiance() {

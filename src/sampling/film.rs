@@ -132,8 +132,9 @@ pub fn render_counting(
         .expect("a render nothing stops runs to the end")
 }
 
-/// [`render`], but `stop()` is asked before each tile and, inside a tile, before each pixel
-/// (each 4×4 block, with bundles): once it says yes, the rest is skipped and there is no
+/// [`render`], but `stop()` is asked before each tile, inside a tile before each pixel
+/// (each 4×4 block, with bundles), and before each row of the image made from the samples:
+/// once it says yes, the rest is skipped and there is no
 /// image (`None`). (So a pass of many samples per pixel on a small image, a tile or two,
 /// still stops soon after it is asked to; `stop` should be cheap.) Progressive rendering
 /// ([`super::progressive`]) stops a pass this way when its time is up or its caller cancels.

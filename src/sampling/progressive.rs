@@ -108,8 +108,9 @@ pub struct Pass {
 
 /// Renders passes 1, 2, … ([`pass_settings`]) until `max_passes` are done, the sequence ends
 /// (the next pass would exceed the sample or memory limits) or `stop(k)` says to stop while
-/// pass k is running or before it starts. `stop` is asked before every tile and every pixel
-/// (block of pixels, with bundles) of a pass, so a stopped pass ends within a pixel's time;
+/// pass k is running or before it starts. `stop` is asked before every tile, every pixel
+/// (block of pixels, with bundles) and every row of its reconstruction, so a stopped pass
+/// ends within a pixel's (or a row's) time;
 /// its partial image is thrown away. It should be cheap (a flag, not a clock). A pass whose
 /// settings' token (`base.cancel`) is cancelled stops sooner, within a few rays, and is
 /// thrown away too: a time budget sets both. `each` sees every

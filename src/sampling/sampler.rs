@@ -141,8 +141,11 @@ pub fn traces_samples(settings: &RenderSettings, width: u32, height: u32, x: u32
     (x.is_multiple_of(k) || x + 1 == width) && (y.is_multiple_of(k) || y + 1 == height)
 }
 
+// ANCHOR_END: subsample
+
 /// The pixel that traces for (x, y) under `--subsample K`: (x, y) itself if it traces
-/// ([`traces_samples`]), otherwise the traced pixel at the top left of its K×K block.
+/// ([`traces_samples`]), otherwise the nearest traced pixel, column and row each (the one
+/// before on a tie), whose samples the stretched box filter gives it.
 pub fn standing_for(
     settings: &RenderSettings,
     width: u32,
@@ -154,11 +157,21 @@ pub fn standing_for(
         return (x, y);
     }
     let k = settings.subsample.max(1);
-    let traced = |v: u32, last: u32| if v + 1 == last { v } else { v - v % k };
-    (traced(x, width), traced(y, height))
+    let nearest = |v: u32, n: u32| {
+        if v + 1 == n {
+            return v; // the last line traces
+        }
+        // The traced lines around v: a multiple of K, and the next one or the last line.
+        let before = v - v % k;
+        let after = (before + k).min(n - 1);
+        if v - before <= after - v {
+            before
+        } else {
+            after
+        }
+    };
+    (nearest(x, width), nearest(y, height))
 }
-// ANCHOR_END: subsample
-
 // ANCHOR: corners
 /// The corner samples pixel (x, y) traces itself: its top-left corner, and the corners on the
 /// image's right and bottom border that no pixel further right or down can own. Every corner
@@ -375,6 +388,23 @@ fn refine(
 
 #[cfg(test)]
 mod tests {
+
+    #[test]
+    fn an_untraced_pixel_stands_for_the_nearest_traced_one() {
+        let s = RenderSettings {
+            subsample: 4,
+            ..RenderSettings::default()
+        };
+        // Columns 0, 4, 8 and the last (9) trace in a 10-wide image; rows 0, 4 and 5 of 6.
+        let at = |x, y| standing_for(&s, 10, 6, x, y);
+        assert_eq!(at(0, 0), (0, 0));
+        assert_eq!(at(1, 1), (0, 0));
+        assert_eq!(at(2, 2), (0, 0)); // a tie: the one before
+        assert_eq!(at(3, 3), (4, 4));
+        assert_eq!(at(8, 5), (8, 5));
+        assert_eq!(at(9, 1), (9, 0));
+        assert_eq!(at(7, 5), (8, 5));
+    }
     use super::*;
 
     fn settings(kind: SamplerKind, spp: u32) -> RenderSettings {

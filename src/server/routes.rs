@@ -269,8 +269,9 @@ fn check_explained(s: &Scene, x: u32, y: u32) -> crate::error::Result<()> {
     Ok(())
 }
 
-/// `GET /api/diagram.png?x=X&y=Y[&plane=camera|bounce][&highlight=K]&<render options>`:
-/// the figure of `rtlab explain --diagram`, ray K (preorder, 0-based) in bold.
+/// `GET /api/diagram.png?x=X&y=Y[&sample=I][&plane=camera|bounce][&highlight=K]&<render
+/// options>`: the figure of `rtlab explain --diagram` for the I-th of the samples the pixel's
+/// explanation lists (else its own first), ray K (preorder, 0-based) in bold.
 async fn diagram(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Response {
     let q = match query(&raw, &["x", "y", "plane", "highlight", "sample"]) {
         Ok(q) => q,
@@ -433,7 +434,7 @@ async fn render(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Res
     })
     .await;
     if response.status().is_success() {
-        for (name, text) in headers.lock().expect("the headers' lock").drain(..) {
+        for (name, text) in super::state::lock(&headers).drain(..) {
             // Form-encoded: a header is ASCII, and a legend has arrows and middle dots.
             let encoded: String = form_urlencoded::byte_serialize(text.as_bytes()).collect();
             if let Ok(value) = header::HeaderValue::from_str(&encoded) {

@@ -371,7 +371,7 @@ fn the_page_in_a_real_browser() {
         click_pixel(&c, x, y).await;
         let sum = wait_js(
             &c,
-            "const p = document.getElementById('pixel-sum'); return p !== null && !document.getElementById('explanation').hidden && document.getElementById('samples').textContent.includes('film point') && document.querySelectorAll('#samples tr').length > 3 ? p.dataset.rgb : '';",
+            "const p = document.getElementById('pixel-sum'), e = document.getElementById('explanation'); const want = window.rtlab.state.passOptions.split('&').concat(['no-shadows']), have = (e.dataset.query || '').split('&'); return p !== null && !e.hidden && want.every((w) => have.includes(w)) ? p.dataset.rgb : '';",
             "the refined pixel's explanation",
         )
         .await;

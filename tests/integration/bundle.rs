@@ -4,7 +4,7 @@
 
 use super::common::*;
 use rtlab::accel::Traversal;
-use rtlab::sampling::aov::{render_aov, Aov};
+use rtlab::sampling::aov::{render_aov, trace_aov_samples, Aov};
 use rtlab::sampling::render;
 use rtlab::scene::SamplerKind;
 
@@ -122,6 +122,24 @@ fn subsampled_aovs_agree_single_or_bundle() {
                 render_aov(&scene, &s, aov).image
             });
             assert!(single == bundle, "{name}, {kind:?}, subsample 3");
+        }
+        // An AOV traces the render's own camera rays: the corners sampler's shared corners
+        // once each, only the traced pixels under --subsample (the adaptive sampler, which
+        // decides while it traces, gives an AOV its first level).
+        if kind != SamplerKind::Adaptive {
+            for subsample in [1, 3] {
+                let s = rtlab::scene::RenderSettings {
+                    subsample,
+                    ..s.clone()
+                };
+                let traced: usize = trace_aov_samples(&scene, &s)
+                    .pixels
+                    .iter()
+                    .map(Vec::len)
+                    .sum();
+                let rays = render(&scene, &s, true, None).stats.unwrap().rays.camera;
+                assert_eq!(traced as u64, rays, "{kind:?}, subsample {subsample}");
+            }
         }
         // And the traced pixels are the full image's: under the box filter, stretched 3 times,
         // a traced pixel is its own sample alone (the normal: the depth's grey scale depends

@@ -13,6 +13,8 @@ const state = {
   pixels: null,         // its RGBA bytes (ImageData)
   kind: "",             // "preview" or "full"
   passOptions: "",      // the options that give the pass shown (its x-rtlab-pass-options)
+  explaining: 0,        // the number of the newest explanation asked for
+  explainedQuery: "",   // the options the explanation shown was made with
   width: 0, height: 0,
   zoom: 1, panX: 0, panY: 0, fitted: true,
   selected: null,       // {x, y}
@@ -301,6 +303,8 @@ async function rerender() {
 async function refinePasses(q, own, cli, controller, stale, t0) {
   const seconds = Number($("opt-refine").value);
   if (!(seconds > 0)) return;
+  // The server cannot stop an AOV midway, so an abandoned pass would keep its threads busy.
+  if (cli) { setStatus(statusOf(2, cli, t0, "refining is for the colour image: choose colour")); return; }
   const deadline = t0 + seconds * 1000;
   for (let k = 3; ; k++) {
     const left = deadline - performance.now();
@@ -309,7 +313,7 @@ async function refinePasses(q, own, cli, controller, stale, t0) {
     const parent = () => pass.abort();
     controller.signal.addEventListener("abort", parent);
     let late = false;
-    const timer = setTimeout(() => { late = true; pass.abort(); }, left);
+    const timer = setTimeout(() => { late = true; pass.abort(); }, Math.min(left, 2 ** 31 - 1));
     setStatus(statusOf(k - 1, cli, t0, `pass ${k} (4× the samples)…`));
     try {
       const img = await loadImage("/api/render.png?" + join(q, `pass=${k}`, own), pass.signal);
@@ -359,16 +363,20 @@ function select(x, y) {
 async function explain() {
   const { x, y } = state.selected;
   const q = shownQuery();
-  const my = state.generation;
+  // Only the newest request's answer is shown (refining asks again for every pass).
+  const my = ++state.explaining;
   try {
     const e = await getJson(`/api/explain?${join(`x=${x}&y=${y}`, q)}`);
-    if (my !== state.generation) return;
+    if (my !== state.explaining) return;
     state.explanation = e;
+    state.explainedQuery = q; // what the diagram draws with, the explanation's own settings
+    $("explanation").dataset.query = q;
     const own = e.samples.findIndex((s) => s.pixel[0] === x && s.pixel[1] === y);
     state.sample = Math.max(0, own);
     showExplanation();
   } catch (err) {
     $("explain-empty").hidden = false;
+    if (my !== state.explaining) return;
     $("explain-empty").className = "error";
     $("explain-empty").textContent = err.message;
     $("explanation").hidden = true;
@@ -473,7 +481,7 @@ function showLedger(s) {
 function showDiagram() {
   const { x, y } = state.selected;
   const hl = state.highlight === null ? "" : `highlight=${state.highlight}`;
-  $("diagram").src = `/api/diagram.png?${join(`x=${x}&y=${y}`, `sample=${state.sample}`, "plane=" + $("plane").value, hl, shownQuery())}`;
+  $("diagram").src = `/api/diagram.png?${join(`x=${x}&y=${y}`, `sample=${state.sample}`, "plane=" + $("plane").value, hl, state.explainedQuery)}`;
 }
 $("plane").addEventListener("change", () => { if (state.selected) showDiagram(); });
 
@@ -612,6 +620,7 @@ async function runCompare() {
     diff.getContext("2d").putImageData(out, 0, 0);
     $("cmp-count").textContent = `(${count} of ${a.width * a.height} pixels differ)`;
   } catch (e) {
+    controller.abort(); // the other render of the two, if still running
     if (e.name !== "AbortError") $("cmp-error").textContent = e.message;
   }
 }
