@@ -42,14 +42,7 @@ fn every_sampler_same_image_single_or_bundle() {
     ] {
         let mut scene = scene(file);
         scene.camera.update_size(37, 29);
-        for (kind, spp) in [
-            (SamplerKind::Center, 1),
-            (SamplerKind::Grid, 4),
-            (SamplerKind::Corners, 5),
-            (SamplerKind::Jittered, 4),
-            (SamplerKind::Random, 3),
-            (SamplerKind::Adaptive, 16),
-        ] {
+        for (kind, spp) in EVERY_SAMPLER {
             scene.render.sampler = kind;
             scene.render.spp = spp;
             both_ways(&scene, &format!("{file} {kind:?}"));
@@ -101,14 +94,7 @@ fn aovs_agree_and_cost_counts_the_bundles_work() {
 fn subsampled_aovs_agree_single_or_bundle() {
     let mut scene = scene("scenes/spheres.json");
     scene.camera.update_size(45, 34);
-    for (kind, spp) in [
-        (SamplerKind::Center, 1),
-        (SamplerKind::Grid, 4),
-        (SamplerKind::Corners, 5),
-        (SamplerKind::Jittered, 4),
-        (SamplerKind::Random, 3),
-        (SamplerKind::Adaptive, 16),
-    ] {
+    for (kind, spp) in EVERY_SAMPLER {
         let mut s = scene.render.clone();
         s.sampler = kind;
         s.spp = spp;

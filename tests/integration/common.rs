@@ -33,6 +33,20 @@ pub fn rtlab_simd(level: &str, args: &[&str]) -> Output {
         .expect("rtlab runs")
 }
 
+/// Every sampler, with a sample count it takes (the corners sampler's 5: the centre and the
+/// four corners).
+pub const EVERY_SAMPLER: [(rtlab::scene::SamplerKind, u32); 6] = {
+    use rtlab::scene::SamplerKind::*;
+    [
+        (Center, 1),
+        (Grid, 4),
+        (Corners, 5),
+        (Jittered, 4),
+        (Random, 3),
+        (Adaptive, 16),
+    ]
+};
+
 /// Loads a scene from the repository.
 pub fn scene(rel: &str) -> rtlab::scene::Scene {
     rtlab::scene::Scene::load(&path(rel)).unwrap_or_else(|e| panic!("{rel}: {e}"))

@@ -299,25 +299,19 @@ fn render_and_explain_are_the_clis_bytes() {
     }
 
     // The diagram is `explain --diagram`'s figure.
-    let fig = tmp("serve-diagram.png");
-    let o = rtlab(&[
-        "explain",
-        "scenes/spheres.json",
-        "--max-depth",
-        "2",
-        "--pixel",
-        "200,150",
-        "--diagram",
-        fig.to_str().unwrap(),
-    ]);
-    assert!(o.status.success());
+    let cli_diagram = |name: &str, extra: &[&str]| {
+        let fig = tmp(name);
+        let mut args = vec!["explain", "scenes/spheres.json", "--max-depth", "2"];
+        args.extend(["--pixel", "200,150", "--diagram", fig.to_str().unwrap()]);
+        args.extend(extra);
+        let o = rtlab(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        std::fs::read(&fig).unwrap()
+    };
+    let fig = cli_diagram("serve-diagram.png", &[]);
     let r = s.get("/api/diagram.png?x=200&y=150");
     assert_eq!(r.status, 200);
-    assert_eq!(
-        r.body,
-        std::fs::read(&fig).unwrap(),
-        "diagram differs from explain --diagram"
-    );
+    assert_eq!(r.body, fig, "diagram differs from explain --diagram");
     // With a ray highlighted it is a different figure of the same size.
     let h = s.get("/api/diagram.png?x=200&y=150&highlight=1");
     assert_eq!(h.status, 200);
@@ -333,29 +327,11 @@ fn render_and_explain_are_the_clis_bytes() {
     );
     let third = s.get(&format!("/api/diagram.png?{q}&sample=2"));
     assert_eq!(third.status, 200, "{}", third.text());
-    let fig = tmp("serve-diagram-sample.png");
-    let o = rtlab(&[
-        "explain",
-        "scenes/spheres.json",
-        "--max-depth",
-        "2",
-        "--pixel",
-        "200,150",
-        "--spp",
-        "4",
-        "--sampler",
-        "jittered",
-        "--sample",
-        "2",
-        "--diagram",
-        fig.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    assert_eq!(
-        third.body,
-        std::fs::read(&fig).unwrap(),
-        "sample=2 vs explain --sample 2"
+    let fig = cli_diagram(
+        "serve-diagram-sample.png",
+        &["--spp", "4", "--sampler", "jittered", "--sample", "2"],
     );
+    assert_eq!(third.body, fig, "sample=2 vs explain --sample 2");
     assert_ne!(third.body, first.body);
 }
 
