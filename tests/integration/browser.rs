@@ -225,6 +225,14 @@ async fn screenshot(c: &Client, name: &str) -> PathBuf {
     p
 }
 
+/// Sets the page's control `id` to `value` as a user would: the value, then its change event.
+async fn set_control(c: &Client, id: &str, value: &str) {
+    let js = format!(
+        "const e = document.getElementById('{id}'); e.value = '{value}'; e.dispatchEvent(new Event('change'));"
+    );
+    c.execute(&js, vec![]).await.unwrap();
+}
+
 /// The panels (`main` elements) the browser really displays: only the selected tab's.
 async fn shown_panels(c: &Client) -> String {
     let v = c
@@ -312,12 +320,7 @@ fn the_page_in_a_real_browser() {
         wait_js(&c, "return document.getElementById('ledger').textContent.length > 0 && !document.getElementById('ledger').textContent.includes('in shadow');", "the explanation without shadows").await;
 
         // The cost AOV: the page shows render --aov's image and, under it, its legend.
-        c.execute(
-            "const a = document.getElementById('opt-aov'); a.value = 'cost'; a.dispatchEvent(new Event('change'));",
-            vec![],
-        )
-        .await
-        .unwrap();
+        set_control(&c, "opt-aov", "cost").await;
         let legend = wait_js(
             &c,
             "const l = document.getElementById('aov-legend'); const s = document.getElementById('render-state').textContent; return !l.hidden && s.startsWith('pass 2') && s.includes('--aov cost') ? l.textContent : '';",
@@ -332,22 +335,12 @@ fn the_page_in_a_real_browser() {
         assert!(legend.as_str().unwrap().starts_with(&cli_legend), "page {legend} vs render {cli_legend}");
         assert_eq!(cost_page, image::open(&out).unwrap().to_rgb8().into_raw(), "the page shows render --aov cost");
         screenshot(&c, "serve-aov.png").await;
-        c.execute(
-            "const a = document.getElementById('opt-aov'); a.value = ''; a.dispatchEvent(new Event('change'));",
-            vec![],
-        )
-        .await
-        .unwrap();
+        set_control(&c, "opt-aov", "").await;
         wait_js(&c, "return document.getElementById('aov-legend').hidden && document.getElementById('render-state').textContent.startsWith('pass 2') && !document.getElementById('render-state').textContent.includes('--aov');", "the colour image again").await;
 
         // Refine: passes 3, 4, … while the seconds last; the last complete pass stays, and
         // it is `render --passes K`'s image, its pixels explained with that pass's settings.
-        c.execute(
-            "const r = document.getElementById('opt-refine'); r.value = '2'; r.dispatchEvent(new Event('change'));",
-            vec![],
-        )
-        .await
-        .unwrap();
+        set_control(&c, "opt-refine", "2").await;
         let status = wait_js(
             &c,
             "const s = document.getElementById('render-state').textContent; return /^pass [0-9]+, .*; (the 2 s were spent|pass [0-9]+ abandoned at the 2 s|no pass)/.test(s) ? s : '';",
@@ -388,12 +381,7 @@ fn the_page_in_a_real_browser() {
             assert!((sum[ch] - e["color"][ch].as_f64().unwrap()).abs() < 1e-12, "{sum:?} vs {} ({pass_options})", e["color"]);
         }
         screenshot(&c, "serve-refined.png").await;
-        c.execute(
-            "const r = document.getElementById('opt-refine'); r.value = ''; r.dispatchEvent(new Event('change'));",
-            vec![],
-        )
-        .await
-        .unwrap();
+        set_control(&c, "opt-refine", "").await;
         wait_js(&c, "return document.getElementById('render-state').textContent.startsWith('pass 2, the full image');", "the full image again").await;
 
         // Steps: the scrubber walks `rtlab steps`' frames.
