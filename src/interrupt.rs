@@ -76,6 +76,16 @@ impl Cancel {
         }
     }
 
+    /// Is `other` this very token (a clone of it: the same flag of its own)? Tokens compare
+    /// equal whatever they are (see above); a holder of many (the server's render streams)
+    /// finds its own this way.
+    pub fn is(&self, other: &Cancel) -> bool {
+        match (&self.own, &other.own) {
+            (Some(a), Some(b)) => std::sync::Arc::ptr_eq(a, b),
+            _ => false,
+        }
+    }
+
     /// Has this token been cancelled (or one it watches), or Ctrl-C pressed?
     pub fn is_cancelled(&self) -> bool {
         let set = |f: &std::sync::Arc<AtomicBool>| f.load(Ordering::Relaxed);

@@ -240,6 +240,8 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
         args.render
             .check_aov_memory(&scene, &args.scene, &settings)?;
         let img = threads.run(|| render_aov(&scene, &settings, aov));
+        crate::interrupt::check()?; // the only way an AOV here stops before it is complete
+        let img = img.ok_or_else(|| Error::Other("the AOV render was stopped".into()))?;
         write_png(&out, &img.image)?;
         if !args.quiet {
             eprintln!("{}", img.legend);

@@ -342,12 +342,18 @@ pub struct AovSamples {
 /// does (tiles in parallel, gathered in order: the result does not depend on the thread
 /// count). Where the render bundles ([`bundled`]), a tile goes block by block through the
 /// film's own [`trace_bundled`], so each sample's cost is the share `--stats` counts for it.
+/// Once `settings.cancel` is cancelled the rest is skipped: what comes back is then partial,
+/// for the caller to throw away.
 pub fn trace_aov_samples(scene: &Scene, settings: &RenderSettings) -> AovSamples {
     let (w, h) = (scene.camera.width, scene.camera.height);
     let bundled = bundled(settings);
     let traced: Vec<(Tile, Vec<SamplesOf>)> = tiles(w, h)
         .into_par_iter()
         .map(|tile| {
+            let mut out: Vec<SamplesOf> = vec![Vec::new(); tile.len()];
+            if settings.cancel.is_cancelled() {
+                return (tile, out); // the rest is skipped, and the caller throws it all away
+            }
             let mut rec = AovRecorder::default();
             // The render's own plan, whichever traversal: under --subsample only some pixels
             // trace, and the corners sampler's shared corners are traced once, by the pixel
@@ -360,7 +366,6 @@ pub fn trace_aov_samples(scene: &Scene, settings: &RenderSettings) -> AovSamples
                 }
                 films
             });
-            let mut out: Vec<SamplesOf> = vec![Vec::new(); tile.len()];
             if bundled {
                 let mut tally = BundleTally::default();
                 let trace = |l: usize, _, _, camera: &mut CameraRay, found: Found| {
@@ -369,6 +374,9 @@ pub fn trace_aov_samples(scene: &Scene, settings: &RenderSettings) -> AovSamples
                 trace_bundled(scene, settings, &tile, &plan, &mut tally, trace, |_| true);
             } else {
                 for (l, (x, y)) in tile.pixels().enumerate() {
+                    if settings.cancel.is_cancelled() {
+                        break;
+                    }
                     for k in 0..plan.samples_of(l) {
                         let film = plan.sample(l, (x, y), k).0;
                         let mut camera = camera_ray(scene, settings, x, y, k, film);
@@ -436,12 +444,17 @@ pub struct AovImage {
     pub legend: String,
 }
 
-/// Renders one AOV of the scene as an image.
-pub fn render_aov(scene: &Scene, base: &RenderSettings, aov: Aov) -> AovImage {
+/// Renders one AOV of the scene as an image. `None` when `base.cancel` was cancelled (or
+/// Ctrl-C pressed) before it was complete: it stops within a few rays, as a render does,
+/// and a partial image is never returned.
+pub fn render_aov(scene: &Scene, base: &RenderSettings, aov: Aov) -> Option<AovImage> {
     let settings = aov.settings(base);
     if aov == Aov::Spp {
         // The real render: the count is a property of the sampler, not of one AOV sample.
         let out = super::render(scene, &settings, false, None);
+        if out.cancelled {
+            return None;
+        }
         let (w, h) = (scene.camera.width, scene.camera.height);
         let spp = out
             .spp_map
@@ -454,9 +467,12 @@ pub fn render_aov(scene: &Scene, base: &RenderSettings, aov: Aov) -> AovImage {
             aov.describe(),
             max
         );
-        return AovImage { aov, image, legend };
+        return Some(AovImage { aov, image, legend });
     }
     let samples = trace_aov_samples(scene, &settings);
+    if settings.cancel.is_cancelled() {
+        return None;
+    }
     let (w, h) = (samples.width, samples.height);
 
     let mut ts: Vec<f64> = samples
@@ -486,7 +502,8 @@ pub fn render_aov(scene: &Scene, base: &RenderSettings, aov: Aov) -> AovImage {
     // sampler's shared corners.
     let filter = Filter::for_settings(&settings);
     let kernel = Kernel::new(&filter, settings.subsample);
-    let colors = super::Image::from_fn(w, h, |x, y| {
+    let given_up = || settings.cancel.is_cancelled();
+    let colors = super::Image::from_fn_until(w, h, &given_up, |x, y| {
         if aov == Aov::Cost {
             // Per pixel, not filtered: the work this pixel's samples caused (under
             // --subsample, a pixel that traces nothing shows the one that stands for it).
@@ -501,7 +518,7 @@ pub fn render_aov(scene: &Scene, base: &RenderSettings, aov: Aov) -> AovImage {
                 .iter()
                 .map(|(film, s)| (*film, aov.display(s, &ranges), 1.0))
         })
-    })
+    })?
     .pixels;
     let encoding = if aov.is_radiance() {
         settings.encoding
@@ -513,7 +530,7 @@ pub fn render_aov(scene: &Scene, base: &RenderSettings, aov: Aov) -> AovImage {
         *p = image::Rgb(super::encode(*c, encoding));
     }
     let legend = legend(aov, &ranges, scene);
-    AovImage { aov, image, legend }
+    Some(AovImage { aov, image, legend })
 }
 
 fn legend(aov: Aov, r: &Ranges, scene: &Scene) -> String {

@@ -153,17 +153,6 @@ pub fn render_until(
     }
 }
 
-/// [`render`] that gives up (`None`) once `cancel` is set, checked before each tile and
-/// pixel: the server cancels a render that a newer one superseded.
-pub fn render_cancellable(
-    scene: &Scene,
-    settings: &RenderSettings,
-    cancel: &std::sync::atomic::AtomicBool,
-) -> Option<RenderOutput> {
-    let stop = || cancel.load(std::sync::atomic::Ordering::Relaxed);
-    render_until(scene, settings, Counting::Off, None, &stop).filter(|o| !o.cancelled)
-}
-
 trait Tally: Recorder + Default + Send {
     /// Does it count anything?
     const COUNTS: bool;

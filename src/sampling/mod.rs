@@ -13,8 +13,7 @@ mod tiles;
 
 pub use film::{check_memory, memory_needed, MEMORY_BUDGET};
 pub use film::{
-    render, render_cancellable, render_counting, render_until, Counting, PixelWork, RenderOutput,
-    RenderStats,
+    render, render_counting, render_until, Counting, PixelWork, RenderOutput, RenderStats,
 };
 pub use filter::Filter;
 pub use image::{encode, encode_as, Image};

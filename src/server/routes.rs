@@ -118,12 +118,12 @@ fn respond(answer: Answer) -> Response {
 struct Running {
     state: Arc<State>,
     stream: Option<String>,
-    flag: Arc<std::sync::atomic::AtomicBool>,
+    token: crate::interrupt::Cancel,
 }
 
 impl Drop for Running {
     fn drop(&mut self) {
-        self.state.release(self.stream.as_deref(), &self.flag);
+        self.state.release(self.stream.as_deref(), &self.token);
     }
 }
 
@@ -373,7 +373,7 @@ async fn render(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Res
     let _running = Running {
         state: state.clone(),
         stream,
-        flag: cancel.clone(),
+        token: cancel.clone(),
     };
     // Headers beside the image: an AOV's legend (how to read its colours, with the ranges
     // used: what `rtlab render --aov` prints on stderr), and pass K's settings as the options
@@ -397,7 +397,7 @@ async fn render(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Res
             })
             .transpose()?;
         let s = st.scene(&q.words)?;
-        let settings = match pass {
+        let mut settings = match pass {
             Some(k) => crate::sampling::progressive::pass_settings(
                 &s.render,
                 s.camera.width,
@@ -407,6 +407,8 @@ async fn render(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Res
             .map_err(|m| Fail::from(Error::arg("pass", m)))?,
             None => s.render.clone(),
         };
+        // Stopped within a few rays once superseded or abandoned (its client gone).
+        settings.cancel = settings.cancel.or(&cancel);
         if let Some(k) = pass {
             add(PASS_OPTIONS, pass_options(&s.render, &settings));
             let (w, h) = (s.camera.width, s.camera.height);
@@ -420,17 +422,15 @@ async fn render(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Res
         if let Some(aov) = aov {
             crate::sampling::aov::check_memory(s.camera.width, s.camera.height, &settings)
                 .map_err(|m| Fail::from(Error::arg("aov", m)))?;
-            let made = render_aov(&s, &settings, aov);
+            let made = render_aov(&s, &settings, aov).ok_or_else(superseded)?;
             add(AOV_LEGEND, made.legend);
             return png(&made.image);
         }
-        match crate::sampling::render_cancellable(&s, &settings, &cancel) {
-            Some(out) => png(&out.image.to_rgb8(s.render.encoding)),
-            None => Err(Fail::Status(
-                StatusCode::CONFLICT,
-                "superseded by a newer render on the same stream".into(),
-            )),
+        let out = crate::sampling::render(&s, &settings, false, None);
+        if out.cancelled {
+            return Err(superseded());
         }
+        png(&out.image.to_rgb8(s.render.encoding))
     })
     .await;
     if response.status().is_success() {
@@ -443,6 +443,15 @@ async fn render(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Res
         }
     }
     response
+}
+
+/// A render stopped by its token: a newer one on its stream took over (or its client left,
+/// and nobody reads the answer).
+fn superseded() -> Fail {
+    Fail::Status(
+        StatusCode::CONFLICT,
+        "superseded by a newer render on the same stream".into(),
+    )
 }
 
 /// The header of an AOV's legend on `/api/render.png?aov=NAME` (form-encoded UTF-8).

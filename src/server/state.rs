@@ -4,11 +4,11 @@
 
 use super::Options;
 use crate::error::{Error, Result};
+use crate::interrupt::Cancel;
 use crate::scene::Scene;
 use serde::Serialize;
 use std::collections::HashMap;
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::SystemTime;
 
@@ -68,7 +68,7 @@ pub struct State {
     /// `Host` header values this server answers to.
     pub allowed_hosts: Vec<String>,
     cache: Mutex<Vec<Cached>>,
-    streams: Mutex<HashMap<String, Arc<AtomicBool>>>,
+    streams: Mutex<HashMap<String, Cancel>>,
     pub status: Mutex<Status>,
     pub events: tokio::sync::broadcast::Sender<String>,
     /// Heavy work (renders, explanations) at most this many at a time; the rest wait.
@@ -132,25 +132,25 @@ impl State {
     }
 
     /// Starts a render on `stream`: cancels the one still running there and returns the new
-    /// one's flag. No stream: a render nobody supersedes.
-    pub fn supersede(&self, stream: Option<&str>) -> Arc<AtomicBool> {
-        let flag = Arc::new(AtomicBool::new(false));
+    /// one's token (for its settings to watch). No stream: a render nobody supersedes.
+    pub fn supersede(&self, stream: Option<&str>) -> Cancel {
+        let token = Cancel::new();
         if let Some(name) = stream {
-            if let Some(old) = lock(&self.streams).insert(name.to_string(), flag.clone()) {
-                old.store(true, Ordering::Relaxed);
+            if let Some(old) = lock(&self.streams).insert(name.to_string(), token.clone()) {
+                old.cancel();
             }
         }
-        flag
+        token
     }
 
     /// Ends a render started by [`State::supersede`], however it ended (finished, superseded,
-    /// or its client gone): its flag is set, so a render still running stops, and its stream
+    /// or its client gone): its token is cancelled, so a render still running stops, and its stream
     /// forgets it unless a newer render took the stream over.
-    pub fn release(&self, stream: Option<&str>, flag: &Arc<AtomicBool>) {
-        flag.store(true, Ordering::Relaxed);
+    pub fn release(&self, stream: Option<&str>, token: &Cancel) {
+        token.cancel();
         if let Some(name) = stream {
             let mut streams = lock(&self.streams);
-            if streams.get(name).is_some_and(|f| Arc::ptr_eq(f, flag)) {
+            if streams.get(name).is_some_and(|t| t.is(token)) {
                 streams.remove(name);
             }
         }

@@ -195,7 +195,11 @@ pub fn render_frames(scene: &Scene, steps: &[Step], skipped: &mut Vec<Skipped>) 
     let mut frames: Vec<Frame> = Vec::new();
     for (i, step) in steps.iter().enumerate() {
         let image = match &step.kind {
-            StepKind::Aov(aov) => render_aov(scene, &scene.render, *aov).image,
+            // Cancelled: a black frame, as a cancelled render's; the caller throws them away.
+            StepKind::Aov(aov) => render_aov(scene, &scene.render, *aov).map_or_else(
+                || image::RgbImage::new(scene.camera.width, scene.camera.height),
+                |a| a.image,
+            ),
             StepKind::Render(settings) => render(scene, settings, false, None)
                 .image
                 .to_rgb8_for(settings),

@@ -61,9 +61,15 @@ fn aovs_agree_and_cost_counts_the_bundles_work() {
     let mut images = Vec::new();
     for t in [Traversal::Single, Traversal::Bundle] {
         s.traversal = t;
-        let depth = render_aov(&scene, &s, Aov::Depth).image;
-        let normal = render_aov(&scene, &s, Aov::Normal).image;
-        let cost = render_aov(&scene, &s, Aov::Cost).image;
+        let depth = render_aov(&scene, &s, Aov::Depth)
+            .expect("not cancelled")
+            .image;
+        let normal = render_aov(&scene, &s, Aov::Normal)
+            .expect("not cancelled")
+            .image;
+        let cost = render_aov(&scene, &s, Aov::Cost)
+            .expect("not cancelled")
+            .image;
         images.push((depth, normal, cost));
     }
     assert!(images[0].0 == images[1].0, "depth");
@@ -80,7 +86,9 @@ fn aovs_agree_and_cost_counts_the_bundles_work() {
     let costs: Vec<_> = [Traversal::Single, Traversal::Bundle]
         .map(|t| {
             s.traversal = t;
-            render_aov(&scene, &s, Aov::Cost).image
+            render_aov(&scene, &s, Aov::Cost)
+                .expect("not cancelled")
+                .image
         })
         .into();
     assert!(costs[0] == costs[1], "adaptive cost");
@@ -105,7 +113,7 @@ fn subsampled_aovs_agree_single_or_bundle() {
             }
             let [single, bundle] = [Traversal::Single, Traversal::Bundle].map(|t| {
                 s.traversal = t;
-                render_aov(&scene, &s, aov).image
+                render_aov(&scene, &s, aov).expect("not cancelled").image
             });
             assert!(single == bundle, "{name}, {kind:?}, subsample 3");
         }
@@ -139,8 +147,11 @@ fn subsampled_aovs_agree_single_or_bundle() {
                 },
                 Aov::Normal,
             )
+            .expect("not cancelled")
             .image;
-            let sub = render_aov(&scene, &s, Aov::Normal).image;
+            let sub = render_aov(&scene, &s, Aov::Normal)
+                .expect("not cancelled")
+                .image;
             for (x, y, p) in sub.enumerate_pixels() {
                 if x % 3 == 0 && y % 3 == 0 {
                     assert_eq!(p, full.get_pixel(x, y), "({x}, {y})");

@@ -428,7 +428,9 @@ fn spp_aov_shows_where_the_adaptive_sampler_spent_its_samples() {
     let mut s = scene.render.clone();
     s.spp = 16;
     s.sampler = SamplerKind::Adaptive;
-    let adaptive = render_aov(&scene, &s, Aov::Spp).image;
+    let adaptive = render_aov(&scene, &s, Aov::Spp)
+        .expect("not cancelled")
+        .image;
     let distinct = |img: &image::RgbImage| {
         let mut v: Vec<[u8; 3]> = img.pixels().map(|p| p.0).collect();
         v.sort();
@@ -437,7 +439,67 @@ fn spp_aov_shows_where_the_adaptive_sampler_spent_its_samples() {
     };
     assert!(distinct(&adaptive) > 1, "adaptive spp map is flat");
     s.sampler = SamplerKind::Grid;
-    assert_eq!(distinct(&render_aov(&scene, &s, Aov::Spp).image), 1);
+    assert_eq!(
+        distinct(
+            &render_aov(&scene, &s, Aov::Spp)
+                .expect("not cancelled")
+                .image
+        ),
+        1
+    );
+}
+
+/// An AOV stops as a render does once its settings' token is cancelled, and gives no image
+/// (the server cancels a superseded one this way): cancelled before it starts, and midway.
+#[test]
+fn a_cancelled_aov_gives_no_image() {
+    use rtlab::interrupt::Cancel;
+    use rtlab::sampling::aov::{render_aov, Aov};
+    let scene = rtlab::scene::Scene::load(&path("scenes/blob.json")).unwrap();
+    let cancel = Cancel::new();
+    let s = rtlab::scene::RenderSettings {
+        cancel: cancel.clone(),
+        spp: 16,
+        ..scene.render.clone()
+    };
+    for aov in [Aov::Depth, Aov::Cost, Aov::Spp] {
+        let small = {
+            let mut small = scene.clone();
+            small.camera.update_size(8, 6);
+            small
+        };
+        assert!(
+            render_aov(&small, &s, aov).is_some(),
+            "{aov:?} not cancelled"
+        );
+    }
+    cancel.cancel();
+    for aov in [Aov::Depth, Aov::Cost, Aov::Spp] {
+        assert!(
+            render_aov(&scene, &s, aov).is_none(),
+            "{aov:?} cancelled before"
+        );
+    }
+    // Midway: the whole image takes seconds; cancelled after a tenth of a second, it stops
+    // within a few rays of every thread.
+    let cancel = Cancel::new();
+    let s = rtlab::scene::RenderSettings {
+        cancel: cancel.clone(),
+        ..s
+    };
+    let t0 = std::time::Instant::now();
+    let made = std::thread::scope(|sc| {
+        let r = sc.spawn(|| render_aov(&scene, &s, Aov::Depth));
+        std::thread::sleep(std::time::Duration::from_millis(100));
+        cancel.cancel();
+        r.join().unwrap()
+    });
+    assert!(made.is_none());
+    assert!(
+        t0.elapsed() < std::time::Duration::from_secs(3),
+        "{:?}",
+        t0.elapsed()
+    );
 }
 
 /// compare and steps refuse, before allocating, a render that cannot fit in memory (as

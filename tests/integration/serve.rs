@@ -740,6 +740,23 @@ fn concurrent_requests_and_superseded_renders() {
     assert!(t0.elapsed() < Duration::from_secs(60), "{:?}", t0.elapsed());
 }
 
+/// An AOV on a stream is superseded as the colour image is: it stops (409) instead of
+/// keeping its threads busy for a page that no longer wants it (the page's AOV refinement).
+#[test]
+fn a_superseded_aov_render_stops() {
+    let s = Server::start(&path("scenes/blob.json"), &[]);
+    std::thread::scope(|sc| {
+        let slow = sc.spawn(|| s.get("/api/render.png?aov=depth&spp=16&sampler=random&stream=a"));
+        std::thread::sleep(Duration::from_millis(300));
+        let fast = s.get("/api/render.png?aov=depth&subsample=8&stream=a");
+        assert_eq!(fast.status, 200, "{}", fast.text());
+        let slow = slow.join().unwrap();
+        assert_eq!(slow.status, 409, "{}", slow.text());
+        assert!(slow.text().contains("superseded"));
+    });
+    assert_eq!(s.get("/api/status").status, 200);
+}
+
 #[test]
 fn edited_and_broken_scenes_while_serving() {
     let scene = scene_copy("scenes/spheres.json", "serve-live.json");

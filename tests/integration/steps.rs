@@ -220,7 +220,12 @@ fn ambient_aov_is_the_ambient_frame() {
     let frame = render(&scene, settings_of(&steps, "ambient"), false, None)
         .image
         .to_rgb8(scene.render.encoding);
-    assert_eq!(render_aov(&scene, &scene.render, Aov::Ambient).image, frame);
+    assert_eq!(
+        render_aov(&scene, &scene.render, Aov::Ambient)
+            .expect("not cancelled")
+            .image,
+        frame
+    );
 }
 
 #[test]
