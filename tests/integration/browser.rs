@@ -119,10 +119,17 @@ async fn wait_js(c: &Client, script: &str, what: &str) -> Value {
         if truthy {
             return v;
         }
-        assert!(
-            t0.elapsed() < Duration::from_secs(120),
-            "timed out waiting for {what}"
-        );
+        if t0.elapsed() > Duration::from_secs(120) {
+            // What the page said last: usually why it never got there.
+            let said = c
+                .execute(
+                    "return document.getElementById('render-state').textContent;",
+                    vec![],
+                )
+                .await
+                .unwrap_or(Value::Null);
+            panic!("timed out waiting for {what}; the page's status: {said}");
+        }
         tokio::time::sleep(Duration::from_millis(100)).await;
     }
 }
@@ -381,8 +388,31 @@ fn the_page_in_a_real_browser() {
             assert!((sum[ch] - e["color"][ch].as_f64().unwrap()).abs() < 1e-12, "{sum:?} vs {} ({pass_options})", e["color"]);
         }
         screenshot(&c, "serve-refined.png").await;
+
+        // An AOV refines as the colour does (the server stops an abandoned AOV pass as it
+        // stops a colour one): its last complete pass is `render --aov normal --passes K`.
+        set_control(&c, "opt-aov", "normal").await;
+        let status = wait_js(
+            &c,
+            "const s = document.getElementById('render-state').textContent; return /^pass [0-9]+, .*--aov normal\\), after [0-9]+ ms; (the 2 s were spent|pass [0-9]+ abandoned at the 2 s|no pass)/.test(s) ? s : '';",
+            "the refined AOV's end",
+        )
+        .await;
+        let status = status.as_str().unwrap().to_string();
+        let k: u32 = status["pass ".len()..].split(',').next().unwrap().parse().unwrap();
+        assert!(k >= 3, "{status}");
+        let (_, _, refined) = page_image(&c, "no-shadows").await;
+        let k_arg = k.to_string();
+        assert_eq!(
+            refined,
+            cli_render(&scene, &["--no-shadows", "--aov", "normal", "--passes", &k_arg]).into_raw(),
+            "AOV pass {k}"
+        );
+        screenshot(&c, "serve-aov-refined.png").await;
         set_control(&c, "opt-refine", "").await;
-        wait_js(&c, "return document.getElementById('render-state').textContent.startsWith('pass 2, the full image');", "the full image again").await;
+        wait_js(&c, "return document.getElementById('render-state').textContent.startsWith('pass 2, the full image (= rtlab render --aov normal)');", "the AOV's full image").await;
+        set_control(&c, "opt-aov", "").await;
+        wait_js(&c, "return document.getElementById('render-state').textContent.startsWith('pass 2, the full image (= rtlab render)');", "the full image again").await;
 
         // Steps: the scrubber walks `rtlab steps`' frames.
         c.find(Locator::Css("nav button[data-mode='steps']"))

@@ -303,8 +303,6 @@ async function rerender() {
 async function refinePasses(q, own, cli, controller, stale, t0) {
   const seconds = Number($("opt-refine").value);
   if (!(seconds > 0)) return;
-  // The server cannot stop an AOV midway, so an abandoned pass would keep its threads busy.
-  if (cli) { setStatus(statusOf(2, cli, t0, "refining is for the colour image: choose colour")); return; }
   const deadline = t0 + seconds * 1000;
   for (let k = 3; ; k++) {
     const left = deadline - performance.now();
