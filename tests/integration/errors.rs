@@ -825,7 +825,7 @@ fn cases() -> Vec<Case> {
             vec!["argument --time-budget", "\"0\" is not a time", "seconds > 0"],
         ),
         c(
-            "an AOV too big for memory (an AOV keeps each sample's whole record)",
+            "an AOV too big for memory (an AOV keeps every sample until its image is made)",
             s(obj(SPHERE)),
             vec!["render", "scene.json", "--aov", "depth", "--width", "4000", "--height", "4000", "--spp", "16", "--sampler", "grid"],
             vec!["argument --width/--height/--spp", "GiB of memory"],

@@ -6,19 +6,15 @@
 //!
 //! Adding an AOV: one variant, one row in [`Aov::ALL`], one arm in [`Aov::display`].
 
-use super::bundles::{bundled, trace_bundled, BundleTally, TilePlan};
+mod samples;
+
+pub use samples::{trace_aov_samples, trace_kept, AovHit, AovRecorder, AovSample, AovSamples};
+
 use super::reconstruct::{reconstruct_color, Kernel};
-use super::sampler::{planned_films_into, standing_for};
-use super::tiles::{tiles, Tile};
-use super::{pixel_samples, Filter};
-use crate::math::Ray;
+use super::sampler::standing_for;
+use super::Filter;
 use crate::scene::{Encoding, RenderSettings, Scene};
-use crate::shading::{LightTerm, Shading};
-use crate::trace::{
-    camera_ray, trace_camera, CameraRay, CountObserver, End, Found, HitInfo, RayKind, Recorder,
-};
 use glam::{DVec2, DVec3};
-use rayon::prelude::*;
 
 /// One arbitrary output variable (DESIGN §3 `--aov`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -177,13 +173,7 @@ impl Aov {
             return DVec3::ZERO;
         };
         match self {
-            Aov::Depth => {
-                // Scaled by 1/t (like a disparity map): a floor running to the horizon would
-                // otherwise leave everything near the camera the same white.
-                let (a, b) = (1.0 / r.near.max(1e-9), 1.0 / r.far.max(1e-9));
-                let x = ((1.0 / hit.t.max(1e-9) - b) / (a - b).max(1e-12)).clamp(0.0, 1.0);
-                DVec3::splat(0.2 + 0.8 * x)
-            }
+            Aov::Depth => depth_grey(hit.t, r),
             Aov::Normal => 0.5 + 0.5 * hit.normal,
             Aov::ObjectId => object_color(hit.object),
             Aov::Albedo => s.albedo,
@@ -204,227 +194,26 @@ impl Aov {
     }
 }
 
-/// The winning hit of the camera ray, as the AOVs need it.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct AovHit {
-    pub object: usize,
-    pub t: f64,
-    pub normal: DVec3,
-}
-
-/// What one camera sample saw at its own first hit (the terms are those of the camera ray's
-/// node, exactly as `explain` shows them).
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct AovSample {
-    pub hit: Option<AovHit>,
-    pub albedo: DVec3,
-    pub ambient: DVec3,
-    pub diffuse: DVec3,
-    pub specular: DVec3,
-    pub reflection: DVec3,
-    pub transmission: DVec3,
-    /// Shadow rays cast from the first hit, and how many reached their light.
-    pub shadow_rays: u32,
-    pub shadow_reached: u32,
-    /// Deepest reflection/refraction level reached (0: the camera ray only).
-    pub ray_depth: u32,
-    /// Intersection tests + BVH nodes visited, over the whole tree of the sample.
-    pub cost: u64,
-}
-
-/// Watches one sample: the camera ray's own events (open == 1) fill the terms; every ray
-/// adds to the cost and the depth.
-#[derive(Debug, Default)]
-pub struct AovRecorder {
-    pub sample: AovSample,
-    /// Rays begun and not yet ended: 1 while the camera ray itself is being shaded.
-    open: u32,
-    /// A shadow ray of the camera ray's hit is in flight.
-    primary_shadow: bool,
-    /// What meshes did inside: faces tested and nodes of their own BVHs.
-    obs: CountObserver,
-}
-
-impl AovRecorder {
-    /// Starts a new sample.
-    pub fn reset(&mut self) {
-        *self = AovRecorder::default();
-    }
-
-    /// The finished sample, its cost including the work inside meshes.
-    pub fn take(&mut self) -> AovSample {
-        let mut sample = std::mem::take(&mut self.sample);
-        sample.cost += self.obs.faces + self.obs.nodes;
-        sample
-    }
-}
-
-impl Recorder for AovRecorder {
-    type Obs = CountObserver;
-    fn observer(&mut self) -> &mut CountObserver {
-        &mut self.obs
-    }
-    fn begin_ray(&mut self, kind: RayKind, depth: u32, _ray: &Ray) {
-        if kind == RayKind::Shadow {
-            self.primary_shadow = self.open == 1;
-        } else {
-            self.sample.ray_depth = self.sample.ray_depth.max(depth);
-        }
-        self.open += 1;
-    }
-    fn tested(&mut self, _o: usize, _t: Option<f64>, _t_max: f64, _r: &Ray) {
-        self.sample.cost += 1;
-    }
-    fn nodes_visited(&mut self, n: u32) {
-        self.sample.cost += n as u64;
-    }
-    fn bundled(&mut self, tests: u32, nodes: u32) {
-        self.sample.cost += tests as u64 + nodes as u64;
-    }
-    fn hit(&mut self, hit: &HitInfo) {
-        if self.open == 1 {
-            self.sample.hit = Some(AovHit {
-                object: hit.object,
-                t: hit.t,
-                normal: hit.normal,
-            });
-        }
-    }
-    fn surface(&mut self, s: &Shading) {
-        if self.open == 1 {
-            self.sample.albedo = s.diffuse;
-        }
-    }
-    fn ambient(&mut self, c: DVec3) {
-        if self.open == 1 {
-            self.sample.ambient += c;
-        }
-    }
-    fn light(&mut self, term: &LightTerm) {
-        if self.open == 1 {
-            self.sample.diffuse += term.diffuse;
-            self.sample.specular += term.specular;
-        }
-    }
-    fn reflected(&mut self, c: DVec3) {
-        if self.open == 1 {
-            self.sample.reflection += c;
-        }
-    }
-    fn transmitted(&mut self, c: DVec3) {
-        if self.open == 1 {
-            self.sample.transmission += c;
-        }
-    }
-    fn end_ray(&mut self, _color: DVec3, end: End, _clamped: bool) {
-        self.open -= 1;
-        if self.open == 1 && self.primary_shadow {
-            self.primary_shadow = false;
-            self.sample.shadow_rays += 1;
-            if end == End::Miss {
-                self.sample.shadow_reached += 1;
-            }
-        }
-    }
-}
-
-/// Every sample of every pixel, row-major, with its film position.
-/// One pixel's samples: where each was on the film, and what it saw.
-type SamplesOf = Vec<(DVec2, AovSample)>;
-
-pub struct AovSamples {
-    pub width: u32,
-    pub height: u32,
-    pub pixels: Vec<Vec<(DVec2, AovSample)>>,
-}
-
-/// Traces every camera sample of the image with an [`AovRecorder`], tile by tile as `render`
-/// does (tiles in parallel, gathered in order: the result does not depend on the thread
-/// count). Where the render bundles ([`bundled`]), a tile goes block by block through the
-/// film's own [`trace_bundled`], so each sample's cost is the share `--stats` counts for it.
-/// Once `settings.cancel` is cancelled the rest is skipped: what comes back is then partial,
-/// for the caller to throw away.
-pub fn trace_aov_samples(scene: &Scene, settings: &RenderSettings) -> AovSamples {
-    let (w, h) = (scene.camera.width, scene.camera.height);
-    let bundled = bundled(settings);
-    let traced: Vec<(Tile, Vec<SamplesOf>)> = tiles(w, h)
-        .into_par_iter()
-        .map(|tile| {
-            let mut out: Vec<SamplesOf> = vec![Vec::new(); tile.len()];
-            if settings.cancel.is_cancelled() {
-                return (tile, out); // the rest is skipped, and the caller throws it all away
-            }
-            let mut rec = AovRecorder::default();
-            // The render's own plan, whichever traversal: under --subsample only some pixels
-            // trace, and the corners sampler's shared corners are traced once, by the pixel
-            // that owns them. (The adaptive sampler decides while it traces: an AOV takes its
-            // first level, the pixel's four fixed samples.)
-            let plan = TilePlan::of(&tile, |x, y| {
-                let mut films = Vec::new();
-                if !planned_films_into(settings, w, h, x, y, &mut films) {
-                    films = pixel_samples(settings.sampler, settings.spp, settings.seed, x, y);
-                }
-                films
-            });
-            if bundled {
-                let mut tally = BundleTally::default();
-                let trace = |l: usize, _, _, camera: &mut CameraRay, found: Found| {
-                    out[l].push(aov_sample(scene, settings, &mut rec, camera, Some(found)));
-                };
-                trace_bundled(scene, settings, &tile, &plan, &mut tally, trace, |_| true);
-            } else {
-                for (l, (x, y)) in tile.pixels().enumerate() {
-                    if settings.cancel.is_cancelled() {
-                        break;
-                    }
-                    for k in 0..plan.samples_of(l) {
-                        let film = plan.sample(l, (x, y), k).0;
-                        let mut camera = camera_ray(scene, settings, x, y, k, film);
-                        out[l].push(aov_sample(scene, settings, &mut rec, &mut camera, None));
-                    }
-                }
-            }
-            (tile, out)
-        })
-        .collect();
-    let mut pixels = vec![Vec::new(); w as usize * h as usize];
-    for (tile, out) in traced {
-        for ((x, y), samples) in tile.pixels().zip(out) {
-            pixels[(y * w + x) as usize] = samples;
-        }
-    }
-    AovSamples {
-        width: w,
-        height: h,
-        pixels,
-    }
-}
-
-/// One camera sample traced with `rec`: where it was on the film, and what it saw.
-fn aov_sample(
-    scene: &Scene,
-    settings: &RenderSettings,
-    rec: &mut AovRecorder,
-    camera: &mut CameraRay,
-    found: Option<Found>,
-) -> (DVec2, AovSample) {
-    rec.reset();
-    trace_camera(scene, settings, camera, found, rec);
-    (camera.film, rec.take())
+/// The depth's grey: scaled by 1/t (like a disparity map), for a floor running to the horizon
+/// would otherwise leave everything near the camera the same white.
+fn depth_grey(t: f64, r: &Ranges) -> DVec3 {
+    let (a, b) = (1.0 / r.near.max(1e-9), 1.0 / r.far.max(1e-9));
+    let x = ((1.0 / t.max(1e-9) - b) / (a - b).max(1e-12)).clamp(0.0, 1.0);
+    DVec3::splat(0.2 + 0.8 * x)
 }
 
 /// Refuses, before anything is allocated, an AOV that would not fit in memory: as
-/// [`super::check_memory`], but an AOV keeps every sample's whole record (its terms, its hit)
-/// until the image is made, several times the render's.
+/// [`super::check_memory`], but an AOV keeps each sample (what [`Shown`] holds of it) until
+/// its image is made, where the render keeps each pixel's sums.
 pub fn check_memory(width: u32, height: u32, settings: &RenderSettings) -> Result<(), String> {
     super::film::check_memory_kept(
         (width, height),
         settings.sampler,
         settings.spp,
         settings.subsample,
-        super::film::Kept::of::<(DVec2, AovSample)>(),
+        super::film::Kept::of::<(DVec2, Shown)>(),
     )
-    .map_err(|m| format!("{m} (an AOV keeps each sample's whole record until its image is made)"))
+    .map_err(|m| format!("{m} (an AOV keeps every sample until its image is made)"))
 }
 
 /// Image-wide values the false colours are scaled by.
@@ -434,6 +223,39 @@ struct Ranges {
     far: f64,
     max_depth: u32,
     max_cost: u64,
+}
+
+/// What an AOV's image keeps of a sample while the others are traced (a quarter of its
+/// whole [`AovSample`]): its colour, for every AOV whose colour needs no image-wide range,
+/// and the two numbers the ranges are made of (the depth is coloured from `t` and the cost
+/// per pixel from `cost`, once every sample is in).
+#[derive(Debug, Clone, Copy)]
+struct Shown {
+    colour: DVec3,
+    t: Option<f64>,
+    cost: u64,
+}
+
+impl Shown {
+    fn of(aov: Aov, s: &AovSample, max_depth: u32) -> Shown {
+        // The ranges known before tracing: the ray depth's. The depth's and the cost's come
+        // from every sample, and those two AOVs are coloured after (see `render_aov`).
+        let before = Ranges {
+            near: 0.0,
+            far: 0.0,
+            max_depth,
+            max_cost: 0,
+        };
+        let colour = match aov {
+            Aov::Depth | Aov::Cost => DVec3::ZERO,
+            _ => aov.display(s, &before),
+        };
+        Shown {
+            colour,
+            t: s.hit.map(|h| h.t),
+            cost: s.cost,
+        }
+    }
 }
 
 /// An AOV made visible, with the sentence that says how to read it.
@@ -469,7 +291,7 @@ pub fn render_aov(scene: &Scene, base: &RenderSettings, aov: Aov) -> Option<AovI
         );
         return Some(AovImage { aov, image, legend });
     }
-    let samples = trace_aov_samples(scene, &settings);
+    let samples = trace_kept(scene, &settings, |s| Shown::of(aov, &s, settings.max_depth));
     if settings.cancel.is_cancelled() {
         return None;
     }
@@ -479,7 +301,7 @@ pub fn render_aov(scene: &Scene, base: &RenderSettings, aov: Aov) -> Option<AovI
         .pixels
         .iter()
         .flatten()
-        .filter_map(|(_, s)| s.hit.map(|h| h.t))
+        .filter_map(|(_, s)| s.t)
         .collect();
     ts.sort_by(f64::total_cmp);
     let pct = |p: f64| -> f64 {
@@ -489,7 +311,7 @@ pub fn render_aov(scene: &Scene, base: &RenderSettings, aov: Aov) -> Option<AovI
             ts[((ts.len() - 1) as f64 * p).round() as usize]
         }
     };
-    let pixel_cost = |px: &Vec<(DVec2, AovSample)>| px.iter().map(|s| s.1.cost).sum::<u64>();
+    let pixel_cost = |px: &Vec<(DVec2, Shown)>| px.iter().map(|s| s.1.cost).sum::<u64>();
     let ranges = Ranges {
         // Percentiles, not min/max: one floor pixel at the horizon would squash the rest.
         near: pct(0.02),
@@ -516,7 +338,13 @@ pub fn render_aov(scene: &Scene, base: &RenderSettings, aov: Aov) -> Option<AovI
         reconstruct_color(&kernel, (x, y), (w, h), |qx, qy| {
             samples.pixels[(qy * w + qx) as usize]
                 .iter()
-                .map(|(film, s)| (*film, aov.display(s, &ranges), 1.0))
+                .map(|(film, s)| {
+                    let colour = match (aov, s.t) {
+                        (Aov::Depth, Some(t)) => depth_grey(t, &ranges),
+                        _ => s.colour,
+                    };
+                    (*film, colour, 1.0)
+                })
         })
     })?
     .pixels;
