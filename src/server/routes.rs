@@ -69,7 +69,7 @@ async fn asset(req: Request<Body>) -> Response {
 
 /// Runs `work` on a blocking thread and turns its result into a response. The work keeps
 /// its slot among [`State::jobs`] until it ends, even when the client has gone away (a render
-/// then stops early: its flag is set when the request is dropped, [`Running`]).
+/// then stops early: its token is cancelled when the request is dropped, [`Running`]).
 pub(super) async fn run<F>(state: Arc<State>, work: F) -> Response
 where
     F: FnOnce(&State) -> Answer + Send + 'static,

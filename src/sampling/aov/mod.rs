@@ -4,7 +4,9 @@
 //! and keeps what the camera ray's own hit saw; `depth`, `normal` and `object-id` run it with
 //! render settings that cast camera rays only (ray casting).
 //!
-//! Adding an AOV: one variant, one row in [`Aov::ALL`], one arm in [`Aov::display`].
+//! Adding an AOV: one variant, one row in [`Aov::ALL`], one arm in [`Aov::shown`] (and, for
+//! one coloured by an image-wide range, as depth and cost are, its colouring in
+//! [`render_aov`]).
 
 mod samples;
 
@@ -167,13 +169,20 @@ impl Aov {
         s
     }
 
-    /// The displayed colour of one sample, given the image-wide ranges.
-    fn display(self, s: &AovSample, r: &Ranges) -> DVec3 {
-        let Some(hit) = s.hit else {
-            return DVec3::ZERO;
-        };
+    /// What the image keeps of one sample while the others are traced: its displayed
+    /// colour, for every AOV whose colour needs no image-wide range (the ray depth's is
+    /// `max_depth`, known before), or the number its colour will be scaled from once every
+    /// sample is in (the depth's `t`, the cost).
+    fn shown(self, s: &AovSample, max_depth: u32) -> Shown {
         match self {
-            Aov::Depth => depth_grey(hit.t, r),
+            Aov::Depth => return Shown::Depth(s.hit.map(|h| h.t)),
+            Aov::Cost => return Shown::Cost(s.cost),
+            _ => {}
+        }
+        let Some(hit) = s.hit else {
+            return Shown::Colour(DVec3::ZERO);
+        };
+        Shown::Colour(match self {
             Aov::Normal => 0.5 + 0.5 * hit.normal,
             Aov::ObjectId => object_color(hit.object),
             Aov::Albedo => s.albedo,
@@ -186,12 +195,21 @@ impl Aov {
                 0 => DVec3::new(0.08, 0.1, 0.3),
                 n => DVec3::splat(s.shadow_reached as f64 / n as f64),
             },
-            Aov::RayDepth => heat(s.ray_depth as f64 / r.max_depth.max(1) as f64),
-            Aov::Cost => heat(s.cost as f64 / r.max_cost.max(1) as f64),
-            // Drawn per pixel from the render's own count (see `render_aov`).
-            Aov::Spp => DVec3::ZERO,
-        }
+            Aov::RayDepth => heat(s.ray_depth as f64 / max_depth.max(1) as f64),
+            // Coloured above (depth, cost), or from the render's own count (see `render_aov`).
+            Aov::Depth | Aov::Cost | Aov::Spp => DVec3::ZERO,
+        })
     }
+}
+
+/// What an AOV's image keeps of each sample until every sample is in (48 bytes with its film
+/// position, against about 265 for the whole [`AovSample`]): see [`Aov::shown`].
+#[derive(Debug, Clone, Copy)]
+enum Shown {
+    Colour(DVec3),
+    /// The camera ray's hit distance (none: it hit nothing).
+    Depth(Option<f64>),
+    Cost(u64),
 }
 
 /// The depth's grey: scaled by 1/t (like a disparity map), for a floor running to the horizon
@@ -211,7 +229,12 @@ pub fn check_memory(width: u32, height: u32, settings: &RenderSettings) -> Resul
         settings.sampler,
         settings.spp,
         settings.subsample,
-        super::film::Kept::of::<(DVec2, Shown)>(),
+        {
+            // And the depth's list of hit distances, sorted for its percentiles.
+            let mut kept = super::film::Kept::of::<(DVec2, Shown)>();
+            kept.sample += std::mem::size_of::<f64>() as u64;
+            kept
+        },
     )
     .map_err(|m| format!("{m} (an AOV keeps every sample until its image is made)"))
 }
@@ -223,39 +246,6 @@ struct Ranges {
     far: f64,
     max_depth: u32,
     max_cost: u64,
-}
-
-/// What an AOV's image keeps of a sample while the others are traced (a quarter of its
-/// whole [`AovSample`]): its colour, for every AOV whose colour needs no image-wide range,
-/// and the two numbers the ranges are made of (the depth is coloured from `t` and the cost
-/// per pixel from `cost`, once every sample is in).
-#[derive(Debug, Clone, Copy)]
-struct Shown {
-    colour: DVec3,
-    t: Option<f64>,
-    cost: u64,
-}
-
-impl Shown {
-    fn of(aov: Aov, s: &AovSample, max_depth: u32) -> Shown {
-        // The ranges known before tracing: the ray depth's. The depth's and the cost's come
-        // from every sample, and those two AOVs are coloured after (see `render_aov`).
-        let before = Ranges {
-            near: 0.0,
-            far: 0.0,
-            max_depth,
-            max_cost: 0,
-        };
-        let colour = match aov {
-            Aov::Depth | Aov::Cost => DVec3::ZERO,
-            _ => aov.display(s, &before),
-        };
-        Shown {
-            colour,
-            t: s.hit.map(|h| h.t),
-            cost: s.cost,
-        }
-    }
 }
 
 /// An AOV made visible, with the sentence that says how to read it.
@@ -291,7 +281,7 @@ pub fn render_aov(scene: &Scene, base: &RenderSettings, aov: Aov) -> Option<AovI
         );
         return Some(AovImage { aov, image, legend });
     }
-    let samples = trace_kept(scene, &settings, |s| Shown::of(aov, &s, settings.max_depth));
+    let samples = trace_kept(scene, &settings, |s| aov.shown(&s, settings.max_depth));
     if settings.cancel.is_cancelled() {
         return None;
     }
@@ -301,7 +291,10 @@ pub fn render_aov(scene: &Scene, base: &RenderSettings, aov: Aov) -> Option<AovI
         .pixels
         .iter()
         .flatten()
-        .filter_map(|(_, s)| s.t)
+        .filter_map(|(_, s)| match s {
+            Shown::Depth(t) => *t,
+            _ => None,
+        })
         .collect();
     ts.sort_by(f64::total_cmp);
     let pct = |p: f64| -> f64 {
@@ -311,7 +304,14 @@ pub fn render_aov(scene: &Scene, base: &RenderSettings, aov: Aov) -> Option<AovI
             ts[((ts.len() - 1) as f64 * p).round() as usize]
         }
     };
-    let pixel_cost = |px: &Vec<(DVec2, Shown)>| px.iter().map(|s| s.1.cost).sum::<u64>();
+    let pixel_cost = |px: &Vec<(DVec2, Shown)>| {
+        px.iter()
+            .map(|(_, s)| match s {
+                Shown::Cost(c) => *c,
+                _ => 0,
+            })
+            .sum::<u64>()
+    };
     let ranges = Ranges {
         // Percentiles, not min/max: one floor pixel at the horizon would squash the rest.
         near: pct(0.02),
@@ -339,9 +339,10 @@ pub fn render_aov(scene: &Scene, base: &RenderSettings, aov: Aov) -> Option<AovI
             samples.pixels[(qy * w + qx) as usize]
                 .iter()
                 .map(|(film, s)| {
-                    let colour = match (aov, s.t) {
-                        (Aov::Depth, Some(t)) => depth_grey(t, &ranges),
-                        _ => s.colour,
+                    let colour = match *s {
+                        Shown::Colour(c) => c,
+                        Shown::Depth(Some(t)) => depth_grey(t, &ranges),
+                        Shown::Depth(None) | Shown::Cost(_) => DVec3::ZERO,
                     };
                     (*film, colour, 1.0)
                 })

@@ -169,9 +169,10 @@ pub fn trace_kept<T: Clone + Send>(
     let traced: Vec<_> = tiles(w, h)
         .into_par_iter()
         .map(|tile| {
-            let mut out: Vec<Vec<(DVec2, T)>> = vec![Vec::new(); tile.len()];
             if settings.cancel.is_cancelled() {
-                return (tile, out); // the rest is skipped, and the caller throws it all away
+                // The rest is skipped, and the caller throws it all away.
+                let none = vec![Vec::new(); tile.len()];
+                return (tile, none);
             }
             let mut rec = AovRecorder::default();
             let mut sample = |camera: &mut CameraRay, found: Option<Found>| {
@@ -190,6 +191,10 @@ pub fn trace_kept<T: Clone + Send>(
                 }
                 films
             });
+            // Each pixel's list holds exactly its samples (what `check_memory` counts).
+            let mut out: Vec<Vec<(DVec2, T)>> = (0..tile.len())
+                .map(|l| Vec::with_capacity(plan.samples_of(l) as usize))
+                .collect();
             if bundled {
                 let mut tally = BundleTally::default();
                 let trace = |l: usize, _, _, camera: &mut CameraRay, found: Found| {
@@ -197,11 +202,11 @@ pub fn trace_kept<T: Clone + Send>(
                 };
                 trace_bundled(scene, settings, &tile, &plan, &mut tally, trace, |_| true);
             } else {
-                for (l, (x, y)) in tile.pixels().enumerate() {
-                    if settings.cancel.is_cancelled() {
-                        break;
-                    }
+                'pixels: for (l, (x, y)) in tile.pixels().enumerate() {
                     for k in 0..plan.samples_of(l) {
+                        if settings.cancel.is_cancelled() {
+                            break 'pixels; // as the colour render: a pixel may hold thousands
+                        }
                         let film = plan.sample(l, (x, y), k).0;
                         let mut camera = camera_ray(scene, settings, x, y, k, film);
                         out[l].push(sample(&mut camera, None));
