@@ -240,6 +240,29 @@ async fn set_control(c: &Client, id: &str, value: &str) {
     c.execute(&js, vec![]).await.unwrap();
 }
 
+/// Waits for the end of the page's refinement (refine (s) at 2) of the image that `rtlab
+/// render{cli}` makes, and returns the pass K it stopped at: at least 3, and named in the
+/// status as `rtlab render --passes K{cli}`.
+async fn refined_pass(c: &Client, cli: &str) -> u32 {
+    let js = format!(
+        "const s = document.getElementById('render-state').textContent; return /^pass [0-9]+, .*\\(= rtlab render --passes [0-9]+{cli}\\), after [0-9]+ ms; (the 2 s were spent|pass [0-9]+ abandoned at the 2 s|no pass)/.test(s) ? s : '';"
+    );
+    let status = wait_js(c, &js, &format!("the refined passes' end ({cli})")).await;
+    let status = status.as_str().unwrap().to_string();
+    let k: u32 = status["pass ".len()..]
+        .split(',')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(k >= 3, "{status}");
+    assert!(
+        status.contains(&format!("(= rtlab render --passes {k}{cli})")),
+        "{status}"
+    );
+    k
+}
+
 /// The panels (`main` elements) the browser really displays: only the selected tab's.
 async fn shown_panels(c: &Client) -> String {
     let v = c
@@ -348,16 +371,7 @@ fn the_page_in_a_real_browser() {
         // Refine: passes 3, 4, … while the seconds last; the last complete pass stays, and
         // it is `render --passes K`'s image, its pixels explained with that pass's settings.
         set_control(&c, "opt-refine", "2").await;
-        let status = wait_js(
-            &c,
-            "const s = document.getElementById('render-state').textContent; return /^pass [0-9]+, .*; (the 2 s were spent|pass [0-9]+ abandoned at the 2 s|no pass)/.test(s) ? s : '';",
-            "the refined passes' end",
-        )
-        .await;
-        let status = status.as_str().unwrap().to_string();
-        let k: u32 = status["pass ".len()..].split(',').next().unwrap().parse().unwrap();
-        assert!(k >= 3, "{status}");
-        assert!(status.contains(&format!("(= rtlab render --passes {k})")), "{status}");
+        let k = refined_pass(&c, "").await;
         let (_, _, refined) = page_image(&c, "no-shadows").await;
         let k_arg = k.to_string();
         assert_eq!(refined, cli_render(&scene, &["--no-shadows", "--passes", &k_arg]).into_raw(), "pass {k}");
@@ -392,15 +406,7 @@ fn the_page_in_a_real_browser() {
         // An AOV refines as the colour does (the server stops an abandoned AOV pass as it
         // stops a colour one): its last complete pass is `render --aov normal --passes K`.
         set_control(&c, "opt-aov", "normal").await;
-        let status = wait_js(
-            &c,
-            "const s = document.getElementById('render-state').textContent; return /^pass [0-9]+, .*--aov normal\\), after [0-9]+ ms; (the 2 s were spent|pass [0-9]+ abandoned at the 2 s|no pass)/.test(s) ? s : '';",
-            "the refined AOV's end",
-        )
-        .await;
-        let status = status.as_str().unwrap().to_string();
-        let k: u32 = status["pass ".len()..].split(',').next().unwrap().parse().unwrap();
-        assert!(k >= 3, "{status}");
+        let k = refined_pass(&c, " --aov normal").await;
         let (_, _, refined) = page_image(&c, "no-shadows").await;
         let k_arg = k.to_string();
         assert_eq!(
