@@ -5,7 +5,7 @@ use crate::accel::Traversal;
 use crate::error::{Error, Result};
 use crate::output::{check_not_input, check_png, write_png};
 use crate::sampling::aov::{render_aov, Aov};
-use crate::sampling::progressive::{describe, pass_settings, progressive, Pass};
+use crate::sampling::progressive::{describe, pass_settings, progressive_with, PassOf};
 use crate::sampling::render;
 use serde_json::json;
 use std::io::IsTerminal;
@@ -57,15 +57,53 @@ fn pass_of(scene: &crate::scene::Scene, k: u32) -> Result<crate::scene::RenderSe
     pass_settings(&scene.render, w, h, k).map_err(|m| Error::arg("--passes", m))
 }
 
+/// The pass a budget reached, on stderr: why the sequence ended when it ended before the
+/// budget or the cap (`max`), and the `--passes K` that gives the same image.
+fn say_reached<T>(
+    scene: &crate::scene::Scene,
+    pass: &PassOf<T>,
+    max: Option<u32>,
+    aov: Option<Aov>,
+) {
+    if max.is_none_or(|cap| pass.index < cap) {
+        let (w, h) = (scene.camera.width, scene.camera.height);
+        let k = pass.index + 1;
+        let next = pass_settings(&scene.render, w, h, k);
+        let next = match aov {
+            Some(_) => next.and_then(|p| aov_fits(scene, &p, k)),
+            None => next.map(|_| ()),
+        };
+        if let Err(why) = next {
+            eprintln!("the passes end at pass {} ({why})", pass.index);
+        }
+    }
+    eprintln!(
+        "passes: {k} ({}); the same image: --passes {k}",
+        describe(&pass.settings),
+        k = pass.index
+    );
+}
+
+/// Whether an AOV of pass `k`, with `settings`, fits in memory (an AOV keeps every sample).
+fn aov_fits(
+    scene: &crate::scene::Scene,
+    settings: &crate::scene::RenderSettings,
+    k: u32,
+) -> std::result::Result<(), String> {
+    let (w, h) = (scene.camera.width, scene.camera.height);
+    crate::sampling::aov::check_memory(w, h, settings).map_err(|m| format!("pass {k}: {m}"))
+}
+
 /// Passes 1, 2, ... until `budget` seconds have gone (the first pass always completes) or
-/// `max` passes are done; says on stderr when each pass is complete (unless quiet).
-fn budgeted(
+/// `max` passes are done, each made by `render` (the colour render, or an AOV's); says on
+/// stderr when each pass is complete (unless quiet).
+fn budgeted<T>(
     scene: &crate::scene::Scene,
     budget: f64,
     max: Option<u32>,
-    count: bool,
     quiet: bool,
-) -> Option<Pass> {
+    render: impl FnMut(&crate::scene::RenderSettings, &(dyn Fn() -> bool + Sync)) -> Option<T>,
+) -> Option<PassOf<T>> {
     // The time is up when `deadline` is cancelled, by a timer thread: a flag is cheaper to
     // ask than the clock. Every pass's settings watch it, so a running pass stops within
     // a few rays (the tracer looks every CHECK_EVERY rays, the renderer at every pixel and
@@ -94,12 +132,12 @@ fn budgeted(
         cancel: scene.render.cancel.or(&deadline),
         ..scene.render.clone()
     };
-    let last = progressive(
+    let last = progressive_with(
         scene,
         &base,
-        count,
         max,
         &|k| k > 1 && deadline.is_cancelled(),
+        render,
         |p| {
             if !quiet {
                 eprintln!(
@@ -180,12 +218,6 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
         None => None,
         Some(name) => Some(Aov::parse_arg(name)?),
     };
-    if args.time_budget.is_some() && aov.is_some() {
-        return Err(Error::arg(
-            "--time-budget",
-            "cannot be combined with --aov (use --passes K for an AOV of pass K)",
-        ));
-    }
     let suffix = aov.map(|a| format!("-{}", a.name())).unwrap_or_default();
     if let Some(o) = &args.output {
         check_png(o, "-o")?;
@@ -233,15 +265,38 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
     render_args.warn(&loaded.warnings);
     let mut scene = loaded.scene;
     if let Some(aov) = aov {
-        let settings = match args.passes {
-            Some(k) => pass_of(&scene, k)?,
-            None => scene.render.clone(),
+        let img = if let Some(budget) = args.time_budget {
+            // As for the colour: pass 1 must fit (it always completes), and so must pass K.
+            if let Some(k) = args.passes {
+                let pass = pass_of(&scene, k)?;
+                args.render.check_aov_memory(&scene, &args.scene, &pass)?;
+            }
+            let (w, h) = (scene.camera.width, scene.camera.height);
+            pass_settings(&scene.render, w, h, 1)
+                .and_then(|p| aov_fits(&scene, &p, 1))
+                .map_err(|m| Error::arg("--time-budget", m))?;
+            let render = |settings: &crate::scene::RenderSettings,
+                          _: &(dyn Fn() -> bool + Sync)| {
+                // A pass too big for an AOV's memory ends the sequence, as the colour's does.
+                let fits = crate::sampling::aov::check_memory(w, h, settings).is_ok();
+                fits.then(|| render_aov(&scene, settings, aov)).flatten()
+            };
+            let pass = threads.run(|| budgeted(&scene, budget, args.passes, args.quiet, render));
+            crate::interrupt::check()?;
+            let pass = pass.ok_or_else(|| Error::Other("no pass was completed".into()))?;
+            say_reached(&scene, &pass, args.passes, Some(aov));
+            pass.output
+        } else {
+            let settings = match args.passes {
+                Some(k) => pass_of(&scene, k)?,
+                None => scene.render.clone(),
+            };
+            args.render
+                .check_aov_memory(&scene, &args.scene, &settings)?;
+            let img = threads.run(|| render_aov(&scene, &settings, aov));
+            crate::interrupt::check()?; // the only way an AOV here stops before it is complete
+            img.ok_or_else(|| Error::Other("the AOV render was stopped".into()))?
         };
-        args.render
-            .check_aov_memory(&scene, &args.scene, &settings)?;
-        let img = threads.run(|| render_aov(&scene, &settings, aov));
-        crate::interrupt::check()?; // the only way an AOV here stops before it is complete
-        let img = img.ok_or_else(|| Error::Other("the AOV render was stopped".into()))?;
         write_png(&out, &img.image)?;
         if !args.quiet {
             eprintln!("{}", img.legend);
@@ -303,29 +358,15 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
         .passes
         .map(|k| (k, scene.render.spp, scene.render.subsample));
     let result = if let Some(budget) = args.time_budget {
-        let pass = threads.run(|| {
-            budgeted(
-                &scene,
-                budget,
-                args.passes,
-                stats_format.is_some(),
-                args.quiet,
-            )
-        });
+        let counting = crate::sampling::Counting::totals_if(stats_format.is_some());
+        let render = |settings: &crate::scene::RenderSettings, stop: &(dyn Fn() -> bool + Sync)| {
+            crate::sampling::render_until(&scene, settings, counting, None, stop)
+                .filter(|o| !o.cancelled)
+        };
+        let pass = threads.run(|| budgeted(&scene, budget, args.passes, args.quiet, render));
         crate::interrupt::check()?;
         let pass = pass.ok_or_else(|| Error::Other("no pass was completed".into()))?;
-        // The sequence itself ended (a budget longer than all of it): say why.
-        if args.passes.is_none_or(|cap| pass.index < cap) {
-            let (w, h) = (scene.camera.width, scene.camera.height);
-            if let Err(why) = pass_settings(&scene.render, w, h, pass.index + 1) {
-                eprintln!("the passes end at pass {} ({why})", pass.index);
-            }
-        }
-        eprintln!(
-            "passes: {k} ({}); the same image: --passes {k}",
-            describe(&pass.settings),
-            k = pass.index
-        );
+        say_reached(&scene, &pass, args.passes, None);
         reached = Some((pass.index, pass.settings.spp, pass.settings.subsample));
         pass.output
     } else {

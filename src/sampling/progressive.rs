@@ -95,16 +95,20 @@ fn too_many(k: u32, spp: u64) -> String {
     )
 }
 
-/// What one pass of [`progressive`] made.
-pub struct Pass {
+/// What one pass of [`progressive`] made (`T`: its image, a [`RenderOutput`] or, with
+/// [`progressive_with`], whatever its renderer makes: an AOV's image).
+pub struct PassOf<T> {
     /// Its number, from 1.
     pub index: u32,
     /// The settings it rendered with ([`pass_settings`]).
     pub settings: RenderSettings,
-    pub output: RenderOutput,
+    pub output: T,
     /// Seconds since the progressive render began, when this pass was complete.
     pub finished: f64,
 }
+
+/// A pass of the colour render.
+pub type Pass = PassOf<RenderOutput>;
 
 /// Renders passes 1, 2, … ([`pass_settings`]) until `max_passes` are done, the sequence ends
 /// (the next pass would exceed the sample or memory limits) or `stop(k)` says to stop while
@@ -124,11 +128,30 @@ pub fn progressive(
     count: bool,
     max_passes: Option<u32>,
     stop: &(dyn Fn(u32) -> bool + Sync),
-    mut each: impl FnMut(&Pass),
+    each: impl FnMut(&Pass),
 ) -> Option<Pass> {
+    let counting = super::film::Counting::totals_if(count);
+    let render = |settings: &RenderSettings, stop: &(dyn Fn() -> bool + Sync)| {
+        // Cancelled by its settings' token (a caller's, or a time budget's): no pass.
+        render_until(scene, settings, counting, None, stop).filter(|o| !o.cancelled)
+    };
+    progressive_with(scene, base, max_passes, stop, render, each)
+}
+
+/// [`progressive`], each pass made by `render` from its settings (watching their token) and a
+/// stop to ask as often as it can: `None` when it stopped before its image was complete.
+/// An AOV's passes are made this way ([`crate::sampling::aov::render_aov`]).
+pub fn progressive_with<T>(
+    scene: &Scene,
+    base: &RenderSettings,
+    max_passes: Option<u32>,
+    stop: &(dyn Fn(u32) -> bool + Sync),
+    mut render: impl FnMut(&RenderSettings, &(dyn Fn() -> bool + Sync)) -> Option<T>,
+    mut each: impl FnMut(&PassOf<T>),
+) -> Option<PassOf<T>> {
     let start = Instant::now();
     let (w, h) = (scene.camera.width, scene.camera.height);
-    let mut last: Option<Pass> = None;
+    let mut last: Option<PassOf<T>> = None;
     for k in 1..=max_passes.unwrap_or(u32::MAX) {
         let Ok(settings) = pass_settings(base, w, h, k) else {
             break;
@@ -136,17 +159,14 @@ pub fn progressive(
         if stop(k) {
             break;
         }
-        let counting = super::film::Counting::totals_if(count);
-        let Some(output) = render_until(scene, &settings, counting, None, &|| stop(k)) else {
-            break;
-        };
+        let output = render(&settings, &|| stop(k));
         if crate::interrupt::requested() {
             return None;
         }
-        if output.cancelled {
-            break; // its settings' token was cancelled (a caller's, or a time budget's)
-        }
-        let pass = Pass {
+        let Some(output) = output else {
+            break;
+        };
+        let pass = PassOf {
             index: k,
             settings,
             output,

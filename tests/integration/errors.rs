@@ -837,12 +837,6 @@ fn cases() -> Vec<Case> {
             vec!["argument --time-budget", "pass 1:", "GiB of memory"],
         ),
         c(
-            "a time budget for an AOV",
-            s(obj(SPHERE)),
-            vec!["render", "scene.json", "--time-budget", "1", "--aov", "depth"],
-            vec!["argument --time-budget", "cannot be combined with --aov", "--passes K"],
-        ),
-        c(
             "an unknown --course-stage",
             s(obj(SPHERE)),
             vec!["render", "scene.json", "--course-stage", "raytrace"],
