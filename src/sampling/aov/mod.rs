@@ -296,12 +296,14 @@ pub fn render_aov(scene: &Scene, base: &RenderSettings, aov: Aov) -> Option<AovI
             _ => None,
         })
         .collect();
-    ts.sort_by(f64::total_cmp);
-    let pct = |p: f64| -> f64 {
+    // The k-th smallest by selection, not a sort: linear, where sorting millions of hits on
+    // one thread outlasted a time budget's deadline by half a second.
+    let mut pct = |p: f64| -> f64 {
         if ts.is_empty() {
             0.0
         } else {
-            ts[((ts.len() - 1) as f64 * p).round() as usize]
+            let k = ((ts.len() - 1) as f64 * p).round() as usize;
+            *ts.select_nth_unstable_by(k, f64::total_cmp).1
         }
     };
     let pixel_cost = |px: &Vec<(DVec2, Shown)>| {
@@ -312,10 +314,14 @@ pub fn render_aov(scene: &Scene, base: &RenderSettings, aov: Aov) -> Option<AovI
             })
             .sum::<u64>()
     };
+    // Percentiles, not min/max: one floor pixel at the horizon would squash the rest.
+    let (near, far) = (pct(0.02), pct(0.98));
+    if settings.cancel.is_cancelled() {
+        return None;
+    }
     let ranges = Ranges {
-        // Percentiles, not min/max: one floor pixel at the horizon would squash the rest.
-        near: pct(0.02),
-        far: pct(0.98),
+        near,
+        far,
         max_depth: settings.max_depth,
         max_cost: samples.pixels.iter().map(pixel_cost).max().unwrap_or(0),
     };
