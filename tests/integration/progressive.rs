@@ -285,7 +285,7 @@ fn an_unknown_simd_level_is_warned_of() {
 /// which holds every sample of its sixteen pixels: here every sample traces its whole ray
 /// budget (a glass ball inside a glass ball, depth 30, nothing cut for being faint), so a
 /// block of pass 2 takes seconds, and the render must end soon after the budget (or after
-/// pass 1, which always completes), either way.
+/// pass 1, which always completes), either way; for the colour and for an AOV.
 #[test]
 fn a_budget_stops_a_pass_inside_a_block() {
     let scene = tmp("heavy_budget.json");
@@ -300,9 +300,15 @@ fn a_budget_stops_a_pass_inside_a_block() {
     )
     .unwrap();
     let out = tmp("heavy_budget.png");
-    for traversal in ["bundle", "single"] {
+    // The colour, and an AOV that traces the whole tree (its passes stop the same way).
+    for (traversal, aov) in [
+        ("bundle", &[][..]),
+        ("single", &[]),
+        ("bundle", &["--aov", "reflection"]),
+        ("single", &["--aov", "reflection"]),
+    ] {
         let start = std::time::Instant::now();
-        let o = rtlab(&[
+        let mut args = vec![
             "render",
             scene.to_str().unwrap(),
             "--time-budget",
@@ -311,11 +317,13 @@ fn a_budget_stops_a_pass_inside_a_block() {
             traversal,
             "-o",
             out.to_str().unwrap(),
-        ]);
+        ];
+        args.extend(aov);
+        let o = rtlab(&args);
         let took = start.elapsed().as_secs_f64();
         let err = stderr(&o);
         assert!(o.status.success(), "{err}");
-        assert!(err.contains("passes: 1 "), "{traversal}: {err}");
+        assert!(err.contains("passes: 1 "), "{traversal} {aov:?}: {err}");
         let first: f64 = err
             .split("pass 1: ")
             .nth(1)
@@ -325,7 +333,7 @@ fn a_budget_stops_a_pass_inside_a_block() {
             .unwrap_or_else(|| panic!("{err}"));
         assert!(
             took < first.max(0.5) + 1.0,
-            "{traversal}: pass 1 done at {first} s, the budget 0.5 s, the render ended at {took:.2} s"
+            "{traversal} {aov:?}: pass 1 done at {first} s, the budget 0.5 s, the render ended at {took:.2} s"
         );
     }
 }
