@@ -13,25 +13,28 @@ fn render_args<'a>(scene: &'a str, out: &'a str, extra: &[&'a str]) -> Vec<&'a s
     v
 }
 
-#[test]
-fn budgeted_render_equals_passes_k_on_any_thread_count() {
-    let scene = path("scenes/whitted.json");
-    let s = scene.to_str().unwrap();
-    let budget = tmp("budget.png");
-    let o = rtlab(&render_args(
-        s,
-        budget.to_str().unwrap(),
-        &["--time-budget", "0.3"],
-    ));
-    assert!(o.status.success(), "{}", stderr(&o));
+/// Renders `scene` to `out` with `extra` (a time budget), and returns the pass K it printed
+/// (`the same image: --passes K`) and its stderr.
+fn budgeted(scene: &str, out: &std::path::Path, extra: &[&str]) -> (String, String) {
+    let o = rtlab(&render_args(scene, out.to_str().unwrap(), extra));
     let err = stderr(&o);
+    assert!(o.status.success(), "{err}");
     let k: String = err
-        .split("--passes ")
+        .split("the same image: --passes ")
         .nth(1)
         .unwrap_or_else(|| panic!("no pass count on stderr: {err}"))
         .chars()
         .take_while(|c| c.is_ascii_digit())
         .collect();
+    (k, err)
+}
+
+#[test]
+fn budgeted_render_equals_passes_k_on_any_thread_count() {
+    let scene = path("scenes/whitted.json");
+    let s = scene.to_str().unwrap();
+    let budget = tmp("budget.png");
+    let (k, err) = budgeted(s, &budget, &["--time-budget", "0.3"]);
     assert!(k.parse::<u32>().unwrap() >= 1, "{err}");
     let want = std::fs::read(&budget).unwrap();
     for threads in ["1", "2"] {
@@ -74,22 +77,9 @@ fn a_budgeted_aov_equals_its_passes_k() {
     let scene = path("scenes/whitted.json");
     let s = scene.to_str().unwrap();
     let budget = tmp("budget-aov.png");
-    let o = rtlab(&render_args(
-        s,
-        budget.to_str().unwrap(),
-        &["--time-budget", "0.3", "--aov", "normal"],
-    ));
-    assert!(o.status.success(), "{}", stderr(&o));
-    let err = stderr(&o);
+    let (k, err) = budgeted(s, &budget, &["--time-budget", "0.3", "--aov", "normal"]);
     assert!(err.contains("pass 1: "), "{err}");
     assert!(err.contains("normal: world-space surface normal"), "{err}");
-    let k: String = err
-        .split("the same image: --passes ")
-        .nth(1)
-        .unwrap_or_else(|| panic!("no pass count on stderr: {err}"))
-        .chars()
-        .take_while(|c| c.is_ascii_digit())
-        .collect();
     let out = tmp("passes-aov.png");
     let o = rtlab(&render_args(
         s,
