@@ -5,7 +5,9 @@ use crate::accel::Traversal;
 use crate::error::{Error, Result};
 use crate::output::{check_not_input, check_png, write_png};
 use crate::sampling::aov::{render_aov, Aov};
-use crate::sampling::progressive::{describe, pass_settings, progressive_with, PassOf};
+use crate::sampling::progressive::{
+    colour_pass, describe, pass_settings, progressive_with, PassOf,
+};
 use crate::sampling::render;
 use serde_json::json;
 use std::io::IsTerminal;
@@ -70,7 +72,7 @@ fn say_reached<T>(
         let k = pass.index + 1;
         let next = pass_settings(&scene.render, w, h, k);
         let next = match aov {
-            Some(_) => next.and_then(|p| aov_fits(scene, &p, k)),
+            Some(_) => next.and_then(|p| aov_fits(scene, &p).map_err(|m| format!("pass {k}: {m}"))),
             None => next.map(|_| ()),
         };
         if let Err(why) = next {
@@ -84,14 +86,13 @@ fn say_reached<T>(
     );
 }
 
-/// Whether an AOV of pass `k`, with `settings`, fits in memory (an AOV keeps every sample).
+/// Whether an AOV with `settings` fits in memory (an AOV keeps every sample).
 fn aov_fits(
     scene: &crate::scene::Scene,
     settings: &crate::scene::RenderSettings,
-    k: u32,
 ) -> std::result::Result<(), String> {
     let (w, h) = (scene.camera.width, scene.camera.height);
-    crate::sampling::aov::check_memory(w, h, settings).map_err(|m| format!("pass {k}: {m}"))
+    crate::sampling::aov::check_memory(w, h, settings)
 }
 
 /// Passes 1, 2, ... until `budget` seconds have gone (the first pass always completes) or
@@ -273,12 +274,12 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
             }
             let (w, h) = (scene.camera.width, scene.camera.height);
             pass_settings(&scene.render, w, h, 1)
-                .and_then(|p| aov_fits(&scene, &p, 1))
+                .and_then(|p| aov_fits(&scene, &p).map_err(|m| format!("pass 1: {m}")))
                 .map_err(|m| Error::arg("--time-budget", m))?;
             let render = |settings: &crate::scene::RenderSettings,
                           _: &(dyn Fn() -> bool + Sync)| {
                 // A pass too big for an AOV's memory ends the sequence, as the colour's does.
-                let fits = crate::sampling::aov::check_memory(w, h, settings).is_ok();
+                let fits = aov_fits(&scene, settings).is_ok();
                 fits.then(|| render_aov(&scene, settings, aov)).flatten()
             };
             let pass = threads.run(|| budgeted(&scene, budget, args.passes, args.quiet, render));
@@ -360,8 +361,7 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
     let result = if let Some(budget) = args.time_budget {
         let counting = crate::sampling::Counting::totals_if(stats_format.is_some());
         let render = |settings: &crate::scene::RenderSettings, stop: &(dyn Fn() -> bool + Sync)| {
-            crate::sampling::render_until(&scene, settings, counting, None, stop)
-                .filter(|o| !o.cancelled)
+            colour_pass(&scene, settings, counting, stop)
         };
         let pass = threads.run(|| budgeted(&scene, budget, args.passes, args.quiet, render));
         crate::interrupt::check()?;

@@ -16,7 +16,7 @@
 //! As pass k + 1 costs about four times pass k, the discarded work is at most a third of the
 //! total.
 
-use super::film::{check_memory, render_until, RenderOutput};
+use super::film::{check_memory, render_until, Counting, RenderOutput};
 use super::validate_spp;
 use crate::scene::{RenderSettings, SamplerKind, Scene};
 use std::time::Instant;
@@ -130,12 +130,22 @@ pub fn progressive(
     stop: &(dyn Fn(u32) -> bool + Sync),
     each: impl FnMut(&Pass),
 ) -> Option<Pass> {
-    let counting = super::film::Counting::totals_if(count);
+    let counting = Counting::totals_if(count);
     let render = |settings: &RenderSettings, stop: &(dyn Fn() -> bool + Sync)| {
-        // Cancelled by its settings' token (a caller's, or a time budget's): no pass.
-        render_until(scene, settings, counting, None, stop).filter(|o| !o.cancelled)
+        colour_pass(scene, settings, counting, stop)
     };
     progressive_with(scene, base, max_passes, stop, render, each)
+}
+
+/// One pass of the colour render, as [`progressive_with`] asks for it: `None` when `stop`
+/// stopped it or its settings' token (a caller's, or a time budget's) was cancelled.
+pub fn colour_pass(
+    scene: &Scene,
+    settings: &RenderSettings,
+    counting: Counting,
+    stop: &(dyn Fn() -> bool + Sync),
+) -> Option<RenderOutput> {
+    render_until(scene, settings, counting, None, stop).filter(|o| !o.cancelled)
 }
 
 /// [`progressive`], each pass made by `render` from its settings (watching their token) and a
