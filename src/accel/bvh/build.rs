@@ -8,7 +8,8 @@ use crate::accel::pages::vec_on_huge_pages;
 use crate::shapes::Aabb;
 use glam::Vec3A;
 
-/// Bins per axis for the SAH sweep.
+/// Bins per axis for the SAH sweep. (Thirty-two made a terrain's tree its bundles walked no
+/// faster: book appendix, "A third processor".)
 const BINS: usize = 16;
 /// Cost of visiting a node relative to testing one primitive, for the SAH's leaf-or-split
 /// decision. (0.5 saved 3 % of bunny_56k's camera-ray instructions, 1 % on the other meshes,

@@ -13,7 +13,7 @@ use crate::shapes::{Aabb, LocalHit, Shape};
 use glam::{DVec2, DVec3};
 
 mod words;
-use words::{coming_from, pixels_caption, plural, unopened, wrap};
+use words::{coming_from, opened_at, pixels_caption, plural, unopened, wrap};
 
 /// Figure size in pixels.
 const W: f32 = 960.0;
@@ -195,12 +195,32 @@ pub fn draw(scene: &Scene, x: u32, y: u32, k: u32) -> Result<Canvas, String> {
     let notes = headings.iter().map(|h| h.1.len()).max().unwrap_or(0);
     let drop = PANEL_DROP + NOTE_STEP * notes as f32;
 
+    // The footer, wrapped to the width; the panels end above it.
+    let slab_tests = work.ray_nodes.iter().sum::<u32>() as usize;
+    let footer = [
+        "Thin grey: the box whose children a panel shows (the root; then the boxes opened). \
+         Seen from above, a ray or its hit can seem to lie in a culled box it passes over or \
+         under (y is not drawn)."
+            .to_string(),
+        format!(
+            "The whole walk: the bundle opened {} {}, each once for all its rays; its {} made {slab_tests} slab {} (a ray against a node's four boxes), in it or alone.",
+            work.opened,
+            plural(work.opened as usize, "node", "nodes"),
+            plural(n, "ray", "rays"),
+            plural(slab_tests, "test", "tests"),
+        ),
+    ]
+    .iter()
+    .flat_map(|t| wrap(t, FOOTER, width))
+    .collect::<Vec<_>>();
+    let bottom = FOOTER_STEP * footer.len() as f32 + 12.0;
+
     let mut c = Canvas::new(W as u32, H as u32, style::background());
     // One panel per level: its frame, the boxes the bundle tested there, the root's outline
     // around them, and the rays, every one clipped to the frame.
     for (level, (heading, note)) in headings.iter().enumerate() {
         let x0 = SIDE_MARGIN + level as f32 * (panel_w + GAP);
-        let view = Panel::fit(&b, (x0, top + drop), (panel_w, H - top - drop - BOTTOM));
+        let view = Panel::fit(&b, (x0, top + drop), (panel_w, H - top - drop - bottom));
         c.rect(view.at, view.size, Some((style::grid(), 1.0)), None);
         c.text(
             (x0, top + 8.0),
@@ -227,6 +247,19 @@ pub fn draw(scene: &Scene, x: u32, y: u32, k: u32) -> Result<Canvas, String> {
             style::muted(),
             Anchor::Left,
         );
+        // Below the root, the boxes opened one level up (whose children this panel
+        // shows), outlined as the root is.
+        if level > 0 {
+            for (node, lane) in opened_at(&tested, &depth, nodes, level - 1) {
+                view.outline(
+                    &mut c,
+                    &nodes[node].bounds(lane),
+                    style::muted(),
+                    1.2,
+                    false,
+                );
+            }
+        }
         // Culled boxes first, under the entered ones.
         for want in [false, true] {
             for &(node, lane, mask) in tested.iter().filter(|t| depth[t.0] == level) {
@@ -297,34 +330,19 @@ pub fn draw(scene: &Scene, x: u32, y: u32, k: u32) -> Result<Canvas, String> {
         style::ink(),
         Anchor::Left,
     );
-    c.text(
-        (SIDE_MARGIN, H - 34.0),
-        "Seen from above, a ray can seem to cross a culled box it passes over or under (y is not drawn); rays at the same film x overlap.",
-        11.0,
-        style::ink(),
-        Anchor::Left,
-    );
-    let slab_tests = work.ray_nodes.iter().sum::<u32>() as usize;
-    c.text(
-        (SIDE_MARGIN, H - 14.0),
-        &format!(
-            "The whole walk: the bundle opened {} {}, each once for all its rays; its {} made {slab_tests} slab {} (a ray against a node's four boxes), in it or alone.",
-            work.opened,
-            plural(work.opened as usize, "node", "nodes"),
-            plural(n, "ray", "rays"),
-            plural(slab_tests, "test", "tests"),
-        ),
-        11.0,
-        style::ink(),
-        Anchor::Left,
-    );
+    for (i, line) in footer.iter().enumerate() {
+        let y = H - 14.0 - FOOTER_STEP * (footer.len() - 1 - i) as f32;
+        c.text((SIDE_MARGIN, y), line, FOOTER, style::ink(), Anchor::Left);
+    }
     Ok(c)
 }
 
 /// Figure layout: margins, the gap between the panels, the heights above and below them.
 const SIDE_MARGIN: f32 = 24.0;
 const GAP: f32 = 28.0;
-const BOTTOM: f32 = 52.0;
+/// The footer's text size and line step.
+const FOOTER: f32 = 11.0;
+const FOOTER_STEP: f32 = 20.0;
 /// From the top of a panel's heading to the top of its frame (and one more step per line
 /// of the panels' notes).
 const PANEL_DROP: f32 = 22.0;

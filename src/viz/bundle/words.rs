@@ -77,6 +77,27 @@ pub(super) fn unopened(
     u
 }
 
+/// The boxes entered at `level` that the bundle then opened, as (node, lane): the inner
+/// children whose own children were tested one level down.
+pub(super) fn opened_at(
+    tested: &[(usize, usize, u32)],
+    depth: &[usize],
+    nodes: &[crate::accel::Node],
+    level: usize,
+) -> Vec<(usize, usize)> {
+    tested
+        .iter()
+        .filter(|&&(node, lane, mask)| {
+            let child = nodes[node].child[lane] as usize;
+            depth[node] == level
+                && mask != 0
+                && nodes[node].count[lane] == 0
+                && tested.iter().any(|t| t.0 == child)
+        })
+        .map(|&(node, lane, _)| (node, lane))
+        .collect()
+}
+
 impl Unopened {
     /// What became of the boxes entered above that the bundle did not open, for a panel's
     /// note (`None`: it opened them all).
@@ -176,5 +197,41 @@ pub(super) fn coming_from(rays: &[Ray]) -> &'static str {
         (true, false, _) => "right",
         (false, _, true) => "top",
         (false, _, false) => "bottom",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::opened_at;
+    use crate::accel::{Node, WIDTH};
+
+    /// Of the root's entered children, only the inner one the bundle went on to open is an
+    /// opened box: not a culled one, not a leaf, not a subtree its rays walked alone.
+    #[test]
+    fn opened_boxes_are_the_entered_inner_children_that_were_opened() {
+        let node = |child, count| Node {
+            planes: [[[0.0; WIDTH]; 3], [[1.0; WIDTH]; 3]],
+            child,
+            count,
+        };
+        let leafless = node([0; WIDTH], [1; WIDTH]);
+        let nodes = [
+            node([1, 2, 0, 3], [0, 0, 2, 0]),
+            leafless,
+            leafless,
+            leafless,
+        ];
+        let depth = [0, 1, 1, 1];
+        // Lane 0 entered and opened (node 1 tested below), lane 1 entered by one ray that
+        // walked alone (node 2 never tested), lane 2 a leaf, lane 3 culled.
+        let tested = [
+            (0, 0, 0b11),
+            (0, 1, 0b1),
+            (0, 2, 0b1),
+            (0, 3, 0),
+            (1, 0, 0b1),
+        ];
+        assert_eq!(opened_at(&tested, &depth, &nodes, 0), vec![(0, 0)]);
+        assert_eq!(opened_at(&tested, &depth, &nodes, 1), vec![]);
     }
 }
