@@ -27,6 +27,14 @@ pub fn validate_spp(kind: SamplerKind, spp: u32) -> Result<(), String> {
              sampler that takes several (grid, jittered, random or adaptive)"
         ));
     }
+    if kind == SamplerKind::Corners && spp != 1 && spp != 5 {
+        return Err(format!(
+            "the corners sampler takes five samples per pixel (its centre and its four \
+             corners, each corner shared by the four pixels around it), found {spp}: give 5, or \
+             1 (the default); for more, choose a sampler that takes several (grid, jittered, \
+             random or adaptive)"
+        ));
+    }
     if matches!(kind, SamplerKind::Grid | SamplerKind::Jittered) {
         let n = (spp as f64).sqrt().round() as u32;
         if n * n != spp {
@@ -439,6 +447,11 @@ mod tests {
             assert_eq!(j * 4 + i, k);
         }
         assert!(validate_spp(SamplerKind::Grid, 8).is_err());
+        // Corners always traces its five: 5 or the default 1, nothing else.
+        assert!(validate_spp(SamplerKind::Corners, 1).is_ok());
+        assert!(validate_spp(SamplerKind::Corners, 5).is_ok());
+        assert!(validate_spp(SamplerKind::Corners, 4).is_err());
+        assert!(validate_spp(SamplerKind::Corners, 16).is_err());
         assert!(validate_spp(SamplerKind::Random, 0).is_err());
         assert!(validate_spp(SamplerKind::Adaptive, 8).is_err());
         assert!(validate_spp(SamplerKind::Adaptive, 16).is_ok());

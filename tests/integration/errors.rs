@@ -550,6 +550,12 @@ fn cases() -> Vec<Case> {
             vec!["argument --spp", "the center sampler takes one sample per pixel, found 16", "grid, jittered, random or adaptive"],
         ),
         c(
+            "--spp the corners sampler does not take",
+            s(obj(SPHERE)),
+            vec!["render", "scene.json", "-o", "good.png", "--sampler", "corners", "--spp", "16", "--quiet"],
+            vec!["argument --spp", "the corners sampler takes five samples per pixel", "found 16", "give 5"],
+        ),
+        c(
             "--width 0",
             s(obj(SPHERE)),
             vec!["render", "scene.json", "-o", "good.png", "--width", "0", "--quiet"],
