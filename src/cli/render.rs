@@ -59,14 +59,16 @@ fn pass_of(scene: &crate::scene::Scene, k: u32) -> Result<crate::scene::RenderSe
     pass_settings(&scene.render, w, h, k).map_err(|m| Error::arg("--passes", m))
 }
 
-/// The pass a budget reached, on stderr: why the sequence ended when it ended before the
-/// budget or the cap (`max`), and the `--passes K` that gives the same image.
-fn say_reached<T>(
+/// The pass a budget reached, for stderr once the image is written: why the sequence ended
+/// when it ended before the budget or the cap (`max`), and the `--passes K` that gives the
+/// same image.
+fn reached_lines<T>(
     scene: &crate::scene::Scene,
     pass: &PassOf<T>,
     max: Option<u32>,
     aov: Option<Aov>,
-) {
+) -> Vec<String> {
+    let mut lines = Vec::new();
     if max.is_none_or(|cap| pass.index < cap) {
         let (w, h) = (scene.camera.width, scene.camera.height);
         let k = pass.index + 1;
@@ -76,14 +78,15 @@ fn say_reached<T>(
             None => next.map(|_| ()),
         };
         if let Err(why) = next {
-            eprintln!("the passes end at pass {} ({why})", pass.index);
+            lines.push(format!("the passes end at pass {} ({why})", pass.index));
         }
     }
-    eprintln!(
+    lines.push(format!(
         "passes: {k} ({}); the same image: --passes {k}",
         describe(&pass.settings),
         k = pass.index
-    );
+    ));
+    lines
 }
 
 /// Whether an AOV with `settings` fits in memory (an AOV keeps every sample).
@@ -265,6 +268,8 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
     crate::output::check_not_read(&out, out_arg)?; // a texture or mesh of the scene
     render_args.warn(&loaded.warnings);
     let mut scene = loaded.scene;
+    // What a budget reached (`reached_lines`), said once the image is written.
+    let mut said = Vec::new();
     if let Some(aov) = aov {
         let img = if let Some(budget) = args.time_budget {
             // As for the colour: pass 1 must fit (it always completes), and so must pass K.
@@ -285,7 +290,7 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
             let pass = threads.run(|| budgeted(&scene, budget, args.passes, args.quiet, render));
             crate::interrupt::check()?;
             let pass = pass.ok_or_else(|| Error::Other("no pass was completed".into()))?;
-            say_reached(&scene, &pass, args.passes, Some(aov));
+            said = reached_lines(&scene, &pass, args.passes, Some(aov));
             pass.output
         } else {
             let settings = match args.passes {
@@ -299,6 +304,9 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
             img.ok_or_else(|| Error::Other("the AOV render was stopped".into()))?
         };
         write_png(&out, &img.image)?;
+        for line in &said {
+            eprintln!("{line}");
+        }
         if !args.quiet {
             eprintln!("{}", img.legend);
             eprintln!("wrote {}", out.display());
@@ -358,6 +366,8 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
     let mut reached = args
         .passes
         .map(|k| (k, scene.render.spp, scene.render.subsample));
+    // The settings of the image written: the scene's, its pass K, or the budget's last pass.
+    let mut written = None;
     let result = if let Some(budget) = args.time_budget {
         let counting = crate::sampling::Counting::totals_if(stats_format.is_some());
         let render = |settings: &crate::scene::RenderSettings, stop: &(dyn Fn() -> bool + Sync)| {
@@ -366,8 +376,9 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
         let pass = threads.run(|| budgeted(&scene, budget, args.passes, args.quiet, render));
         crate::interrupt::check()?;
         let pass = pass.ok_or_else(|| Error::Other("no pass was completed".into()))?;
-        say_reached(&scene, &pass, args.passes, None);
+        said = reached_lines(&scene, &pass, args.passes, None);
         reached = Some((pass.index, pass.settings.spp, pass.settings.subsample));
+        written = Some(pass.settings.clone());
         pass.output
     } else {
         threads.run(|| render(&scene, &scene.render, stats_format.is_some(), bar.as_ref()))
@@ -376,12 +387,13 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
         b.finish_and_clear();
     }
     crate::interrupt::check()?;
+    let written = written.as_ref().unwrap_or(&scene.render);
     if let Some((x, y, k)) = result.first_nan {
         eprintln!(
             "warning: sample {k} of pixel ({x}, {y}) came out as NaN or infinity and was counted as black \
              (reflective or transparent colours above 1 amplify light at every bounce and can overflow; otherwise this is a bug in rtlab). \
-             Reproduce it with: rtlab explain {} --pixel {x},{y} --sample {k}",
-            args.scene.display()
+             Reproduce it with: {}",
+            explain_command(&args, written, x, y, k)
         );
     }
     if let Some((x, y, k)) = result.first_cut {
@@ -391,10 +403,13 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
              (the first is sample {k} of pixel ({x}, {y})). See where it was cut with: {}",
             scene.render.max_rays,
             result.cut_samples,
-            explain_command(&args, x, y, k)
+            explain_command(&args, written, x, y, k)
         );
     }
     write_png(&out, &result.image.to_rgb8_for(&scene.render))?;
+    for line in &said {
+        eprintln!("{line}");
+    }
 
     let spp = reached.map_or(scene.render.spp, |r| r.1);
     let subsample = reached.map_or(scene.render.subsample, |r| r.2);
@@ -516,11 +531,25 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
 
 /// The `rtlab explain` command that traces sample `k` of pixel (x, y) as this render did:
 /// the scene and every option given that changes a pixel.
-fn explain_command(args: &Args, x: u32, y: u32, k: u32) -> String {
+fn explain_command(
+    args: &Args,
+    written: &crate::scene::RenderSettings,
+    x: u32,
+    y: u32,
+    k: u32,
+) -> String {
+    // A pass (`--passes`, `--time-budget`) has samples of its own: explain takes them as
+    // options, having no passes.
+    let mut flags = args.render.clone();
+    if args.passes.is_some() || args.time_budget.is_some() {
+        flags.spp = Some(written.spp);
+        flags.sampler = Some(written.sampler.name().to_string());
+        flags.subsample = (written.subsample > 1).then_some(written.subsample);
+    }
     format!(
         "rtlab explain {} --pixel {x},{y} --sample {k}{}",
         super::shell_word(&args.scene.display().to_string()),
-        args.render.to_flags()
+        flags.to_flags()
     )
 }
 

@@ -154,6 +154,37 @@ fn explain_of_a_cut_pixel_shows_where_the_budget_cut_it() {
     );
 }
 
+/// A pass of `--passes K` (or of a time budget) traces its own samples (pass 3 of a 1-spp
+/// scene: 4 spp grid): the warning's explain command names them, and finds the cut sample.
+#[test]
+fn a_pass_cut_by_the_budget_is_explained_with_the_pass_samples() {
+    let scene = nested_glass("nested-pass.json");
+    let out = tmp("nested-pass.png");
+    let o = rtlab(&[
+        "render",
+        &scene,
+        "-o",
+        out.to_str().unwrap(),
+        "--max-rays",
+        "40",
+        "--passes",
+        "3",
+        "--width",
+        "16",
+        "--height",
+        "12",
+        "--quiet",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let (_, cmd) = budget_warning(&stderr(&o));
+    assert!(cmd.contains(" --spp 4 --sampler grid"), "{cmd}");
+    let args: Vec<&str> = cmd.split(' ').skip(1).collect();
+    let t = rtlab(&args);
+    assert!(t.status.success(), "{cmd}: {}", stderr(&t));
+    let text = String::from_utf8_lossy(&t.stdout);
+    assert!(text.contains("cut: ray budget reached"), "{text}");
+}
+
 #[test]
 fn the_budget_is_per_sample_in_the_library_too() {
     let mut scene = Scene::load(&path("scenes/glass.json")).unwrap();
