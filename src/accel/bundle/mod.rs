@@ -35,7 +35,7 @@ pub const BUNDLE: usize = LANES;
 /// alone: the lane test's sixteen lanes cost the same for one ray as for sixteen. (Timed on
 /// the terrain against one, three and four: on an AVX2 processor one ran at 0.96 of two,
 /// three at 0.85, four at 0.86; on an AVX-512 Xeon three and four could not be told from
-/// two in alternating runs: book appendix, "A third processor".)
+/// two in alternating runs: book appendix, "The Xeon again".)
 pub const FEW: u32 = 2;
 
 /// What a bundle traversal did: nodes opened (once per bundle), and per ray the nodes it

@@ -9,7 +9,7 @@ use crate::shapes::Aabb;
 use glam::Vec3A;
 
 /// Bins per axis for the SAH sweep. (Thirty-two made a terrain's tree its bundles walked no
-/// faster: book appendix, "A third processor".)
+/// faster: book appendix, "The Xeon again".)
 const BINS: usize = 16;
 /// Cost of visiting a node relative to testing one primitive, for the SAH's leaf-or-split
 /// decision. (0.5 saved 3 % of bunny_56k's camera-ray instructions, 1 % on the other meshes,
