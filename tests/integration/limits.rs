@@ -110,21 +110,22 @@ fn ends(node: &serde_json::Value, out: &mut Vec<String>) {
     }
 }
 
+/// Renders the nested glass (as `NAME.json`, with `options`) under a budget of 40 rays a
+/// sample; the explain command its warning gives.
+fn cut_at_40(name: &str, options: &[&str]) -> String {
+    let scene = nested_glass(&format!("{name}.json"));
+    let out = tmp(&format!("{name}.png"));
+    let mut args = vec!["render", &scene, "-o", out.to_str().unwrap()];
+    args.extend(["--max-rays", "40", "--quiet"]);
+    args.extend(options);
+    let o = rtlab(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    budget_warning(&stderr(&o)).1
+}
+
 #[test]
 fn explain_of_a_cut_pixel_shows_where_the_budget_cut_it() {
-    let scene = nested_glass("nested-explain.json");
-    let out = tmp("nested-explain.png");
-    let o = rtlab(&[
-        "render",
-        &scene,
-        "-o",
-        out.to_str().unwrap(),
-        "--max-rays",
-        "40",
-        "--quiet",
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let (_, cmd) = budget_warning(&stderr(&o));
+    let cmd = cut_at_40("nested-explain", &[]);
     assert!(cmd.ends_with("--max-rays 40"), "{cmd}");
     let args: Vec<&str> = cmd.split(' ').skip(1).collect();
     let mut json_args = args.clone();
@@ -158,25 +159,8 @@ fn explain_of_a_cut_pixel_shows_where_the_budget_cut_it() {
 /// scene: 4 spp grid): the warning's explain command names them, and finds the cut sample.
 #[test]
 fn a_pass_cut_by_the_budget_is_explained_with_the_pass_samples() {
-    let scene = nested_glass("nested-pass.json");
-    let out = tmp("nested-pass.png");
-    let o = rtlab(&[
-        "render",
-        &scene,
-        "-o",
-        out.to_str().unwrap(),
-        "--max-rays",
-        "40",
-        "--passes",
-        "3",
-        "--width",
-        "16",
-        "--height",
-        "12",
-        "--quiet",
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let (_, cmd) = budget_warning(&stderr(&o));
+    let options = ["--passes", "3", "--width", "16", "--height", "12"];
+    let cmd = cut_at_40("nested-pass", &options);
     assert!(cmd.contains(" --spp 4 --sampler grid"), "{cmd}");
     let args: Vec<&str> = cmd.split(' ').skip(1).collect();
     let t = rtlab(&args);
