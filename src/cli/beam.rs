@@ -291,9 +291,13 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
     );
     if let Some(o) = &args.output {
         crate::viz::beam::figure(&beam, &segments, &pieces).write_png(o)?;
-        text += &format!("wrote {}\n", o.display());
     }
-    super::emit(out, &text)
+    super::emit(out, &text)?;
+    // On stderr, as `render` says it: stdout is the description alone.
+    if let Some(o) = &args.output {
+        eprintln!("wrote {}", o.display());
+    }
+    Ok(())
 }
 
 /// What the printed list of pieces needs besides the pieces.
