@@ -49,12 +49,8 @@ pub struct RequestArgs {
 pub fn loader(scene: PathBuf, base: RenderArgs) -> Loader {
     let seen = Arc::new(Mutex::new(HashSet::<String>::new()));
     Arc::new(move |words: &[String]| {
-        let mut a = RequestArgs {
-            render: base.clone(),
-        };
         // The line the CLI prints, without its "error: ".
-        a.try_update_from(words)
-            .map_err(|e| Error::Other(super::usage::usage_line(&e)))?;
+        let render = over(&base, words).map_err(|e| Error::Other(super::usage::usage_line(&e)))?;
         // The server reads its scene again whenever it changes: a pipe or a device there
         // would block the read (and the watcher behind it) until something writes to it.
         if std::fs::metadata(&scene).is_ok_and(|m| !m.is_file() && !m.is_dir()) {
@@ -64,7 +60,7 @@ pub fn loader(scene: PathBuf, base: RenderArgs) -> Loader {
                 "is not a regular file (a pipe or a device): the server needs a scene file it can read again",
             ));
         }
-        let loaded = a.render.load_full(&scene)?;
+        let loaded = render.load_full(&scene)?;
         let fresh: Vec<String> = {
             let mut seen = seen.lock().unwrap_or_else(|e| e.into_inner());
             if seen.len() > 1000 {
@@ -76,28 +72,30 @@ pub fn loader(scene: PathBuf, base: RenderArgs) -> Loader {
                 .filter(|w| seen.insert(w.clone()))
                 .collect()
         };
-        a.render.warn(&fresh);
+        render.warn(&fresh);
         let s = loaded.scene;
-        a.render.check_memory(&s, &scene, s.render.spp)?;
+        render.check_memory(&s, &scene, s.render.spp)?;
         Ok(s)
     })
 }
 
-/// The render options as the page's controls, from the parser itself (a new option appears
-/// on the page by itself).
 /// The request's render options (over the server's) as command-line flags, as `rtlab diff`
 /// writes them into its explain commands.
 pub fn flags(base: RenderArgs) -> Flags {
     Arc::new(move |words: &[String]| {
-        let mut a = RequestArgs {
-            render: base.clone(),
-        };
-        a.try_update_from(words)
-            .map_err(|e| Error::Other(e.kind().to_string()))?;
-        Ok(a.render.to_flags())
+        let a = over(&base, words).map_err(|e| Error::Other(super::usage::usage_line(&e)))?;
+        Ok(a.to_flags())
     })
 }
 
+/// A request's words (`--spp=4`) parsed as the CLI parses them, over the server's options
+/// ([`RenderArgs::over`]: a request cannot turn off a switch the server was started with).
+fn over(base: &RenderArgs, words: &[String]) -> Result<RenderArgs, clap::Error> {
+    Ok(RequestArgs::try_parse_from(words)?.render.over(base))
+}
+
+/// The render options as the page's controls, from the parser itself (a new option appears
+/// on the page by itself).
 pub fn option_infos() -> Vec<OptionInfo> {
     let cmd = RequestArgs::command();
     let choices = |name: &str| -> Vec<String> {

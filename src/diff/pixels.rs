@@ -51,7 +51,12 @@ pub fn trace_pixels<R: Recorder, T: Send + Sync + Clone>(
             let mut kept = Vec::new();
             let samples = sample_pixel(settings, w, h, x, y, |k, film| {
                 let mut rec = recorder();
-                let c = trace_sample(scene, settings, x, y, k, film, &mut rec).color;
+                // Cancelled (the server's client gone): the rest is not traced, and the
+                // caller throws the answer away.
+                let c = match settings.cancel.is_cancelled() {
+                    true => DVec3::ZERO,
+                    false => trace_sample(scene, settings, x, y, k, film, &mut rec).color,
+                };
                 kept.push(keep(&mut rec));
                 if c.is_finite() {
                     c

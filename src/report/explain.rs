@@ -46,15 +46,26 @@ pub struct Explanation {
 /// Explains pixel (x, y): traces every sample that reaches it with a [`TreeRecorder`] and
 /// reconstructs the pixel with the same filter code `render` uses.
 pub fn explain(scene: &Scene, x: u32, y: u32) -> Explanation {
+    explain_within(scene, x, y, u64::MAX).expect("no bound on the rays")
+}
+
+/// [`explain`], unless its samples trace more than `max_rays` rays between them (every ray is
+/// kept, a few kilobytes each): `None` once they have, tracing no sample after that one.
+pub fn explain_within(scene: &Scene, x: u32, y: u32, max_rays: u64) -> Option<Explanation> {
     let s = &scene.render;
+    let rays = std::cell::Cell::new(0u64);
     let (w, h) = (scene.camera.width, scene.camera.height);
     let traced: RefCell<BTreeMap<(u32, u32, u32), SampleNode>> = RefCell::new(BTreeMap::new());
     let filter = Filter::for_settings(s);
     let (color, weights) = crate::sampling::render_reconstruct(&filter, x, y, w, h, |qx, qy| {
         sample_pixel(s, w, h, qx, qy, |k, film| {
+            if rays.get() > max_rays {
+                return DVec3::ZERO; // the explanation is refused: the rest is not traced
+            }
             let mut rec = TreeRecorder::new(scene);
             let mut camera = camera_ray(scene, s, qx, qy, k, film);
             let r = trace_camera(scene, s, &mut camera, None, &mut rec);
+            rays.set(rays.get() + r.rays);
             let color = if r.color.is_finite() {
                 r.color
             } else {
@@ -82,6 +93,9 @@ pub fn explain(scene: &Scene, x: u32, y: u32) -> Explanation {
         .into_iter()
         .map(|p| (p.film, p.color, p.area))
     });
+    if rays.get() > max_rays {
+        return None;
+    }
     let mut traced = traced.into_inner();
     let samples = weights
         .into_iter()
@@ -91,12 +105,12 @@ pub fn explain(scene: &Scene, x: u32, y: u32) -> Explanation {
             Some(node)
         })
         .collect();
-    Explanation {
+    Some(Explanation {
         pixel: [x, y],
         color,
         encoded: encode_as(color, s.encoding, s.mistakes),
         samples,
-    }
+    })
 }
 
 /// Parses and checks `--pixel X,Y` against the image size.

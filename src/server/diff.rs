@@ -34,6 +34,8 @@ pub async fn diff(
         Ok(q) => q,
         Err(r) => return r,
     };
+    // Stopped within a few rays when the client goes (the mistake search renders a lot).
+    let (cancel, _running) = super::routes::Running::alone(&state);
     run(state, move |st| -> Answer {
         let tolerance = match q.own.get("tolerance") {
             Some(_) => u8::try_from(q.number("tolerance", "tolerance=2")?).map_err(|_| {
@@ -62,12 +64,15 @@ pub async fn diff(
             )
             .into());
         }
-        let scene = st.scene(&q.words)?;
+        let scene = super::routes::watched(&*st.scene(&q.words)?, &cancel);
         // A bad upload is a bad request (400), like an image of the wrong size, not a scene
         // that does not load (422).
         let yours = diff::png::decode(Path::new("your image"), &body)
             .map_err(|e| Fail::Status(StatusCode::BAD_REQUEST, e.to_string()))?;
         let out = crate::sampling::render(&scene, &scene.render, false, None);
+        if out.cancelled {
+            return Err(super::routes::superseded());
+        }
         let expected = out.image.to_rgb8_for(&scene.render);
         let opts = Options {
             tolerance,
@@ -80,6 +85,9 @@ pub async fn diff(
             ..Options::default()
         };
         let rep = diff::diff(&scene, &expected, &yours, &opts)?;
+        if cancel.is_cancelled() {
+            return Err(super::routes::superseded());
+        }
         if format == "png" {
             let fig = crate::viz::diff::figure(&scene, &expected, &yours, &rep);
             return Ok(("image/png", fig.png_bytes()?));

@@ -8,9 +8,6 @@ use std::collections::BTreeMap;
 /// Longest query string accepted (bytes); longer requests are refused before parsing.
 pub const MAX_QUERY: usize = 4096;
 
-/// Render options that may be given more than once, as on the command line.
-const REPEATABLE: [&str; 1] = ["mistake"];
-
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Params {
     /// The endpoint's own parameters.
@@ -20,7 +17,7 @@ pub struct Params {
 }
 
 /// Splits `query` (undecoded) into the endpoint's `own` keys and render-option words.
-/// A key given twice, or a key that is not an option name, is refused.
+/// One of the endpoint's keys given twice, or a key that is not an option name, is refused.
 pub fn parse(query: Option<&str>, own_keys: &[&str]) -> Result<Params> {
     let q = query.unwrap_or("");
     if q.len() > MAX_QUERY {
@@ -39,9 +36,10 @@ pub fn parse(query: Option<&str>, own_keys: &[&str]) -> Result<Params> {
                 "is not a parameter name (expected lower-case words joined by '-', e.g. spp or no-shadows)",
             ));
         }
-        // Options the command line takes more than once (`--mistake a --mistake b`) may
-        // repeat; any other key given twice is a mistake.
-        if !seen.insert(k.clone()) && !REPEATABLE.contains(&k.as_str()) {
+        // The endpoint's own keys are given once; a render option given twice goes to the
+        // CLI's parser, which refuses it as the command line does (unless it repeats, as
+        // `--mistake a --mistake b`).
+        if own_keys.contains(&k.as_str()) && !seen.insert(k.clone()) {
             return Err(Error::arg(&k, "is given twice"));
         }
         if own_keys.contains(&k.as_str()) {
@@ -71,8 +69,16 @@ impl Params {
             .own
             .get(key)
             .ok_or_else(|| Error::arg(key, format!("is missing (e.g. {example})")))?;
-        v.parse()
-            .map_err(|_| Error::arg(key, format!("expected a whole number, found \"{v}\"")))
+        v.parse().map_err(|_| {
+            let digits = !v.is_empty() && v.bytes().all(|c| c.is_ascii_digit());
+            Error::arg(
+                key,
+                match digits {
+                    true => format!("{v} is not in 0..={}", u32::MAX),
+                    false => format!("expected a whole number, found \"{}\"", v.escape_debug()),
+                },
+            )
+        })
     }
 
     /// The pixel `x`, `y`, checked against the image as `explain --pixel X,Y` checks it.
@@ -110,7 +116,12 @@ mod tests {
         .unwrap();
         assert_eq!(p.words, ["--spp=4", "--no-shadows", "--sampler=jittered"]);
         assert_eq!(p.own["y"], "4");
-        assert!(parse(Some("spp=1&spp=2"), &[]).is_err());
+        // A render option twice is for the CLI's parser to refuse; an own key twice is not.
+        assert_eq!(
+            parse(Some("spp=1&spp=2"), &[]).unwrap().words,
+            ["--spp=1", "--spp=2"]
+        );
+        assert!(parse(Some("x=1&x=2"), &["x"]).is_err());
         assert!(parse(Some("=1"), &[]).is_err());
         assert!(parse(Some("--spp=1"), &[]).is_err());
         assert!(parse(Some("a%20b=1"), &[]).is_err());

@@ -115,10 +115,31 @@ fn respond(answer: Answer) -> Response {
 
 /// A render in progress: released ([`State::release`]) when its request ends, answered or
 /// dropped because the client went away, so an abandoned render stops instead of running on.
-struct Running {
+pub(super) struct Running {
     state: Arc<State>,
     stream: Option<String>,
     token: crate::interrupt::Cancel,
+}
+
+impl Running {
+    /// A request's work on no stream (nothing supersedes it), stopped when its client goes:
+    /// its token, and the guard that cancels it when the request is dropped.
+    pub(super) fn alone(state: &Arc<State>) -> (crate::interrupt::Cancel, Running) {
+        let token = state.supersede(None);
+        let running = Running {
+            state: state.clone(),
+            stream: None,
+            token: token.clone(),
+        };
+        (token, running)
+    }
+}
+
+/// A copy of `scene` whose renders stop when `cancel` is cancelled (or the scene's own token).
+pub(super) fn watched(scene: &Scene, cancel: &crate::interrupt::Cancel) -> Scene {
+    let mut s = scene.clone();
+    s.render.cancel = s.render.cancel.or(cancel);
+    s
 }
 
 impl Drop for Running {
@@ -234,8 +255,7 @@ async fn explain(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Re
     run(state, move |st| {
         let s = st.scene(&q.words)?;
         let (x, y) = q.pixel(s.camera.width, s.camera.height)?;
-        check_explained(&s, x, y)?;
-        let e = crate::report::explain::explain(&s, x, y);
+        let e = explained(&s, x, y)?;
         let text = crate::report::mistakes::to_json(&s, x, y, None, &e);
         Ok(("application/json", text.into_bytes()))
     })
@@ -246,6 +266,30 @@ async fn explain(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Re
 /// reaches the pixel is in its document, each a few kilobytes with its ray tree (65,536 of
 /// them, one pixel at `spp=65536`, made 430 MB).
 pub const MAX_EXPLAINED: u64 = 4096;
+
+/// The most rays one explanation on the server keeps between all its samples: each ray
+/// is kept with every test and term, a few kilobytes a ray in memory and more as JSON
+/// (4,102 rays of `scenes/glass.json` made 40 MB of JSON at a peak of 150 MB).
+pub const MAX_EXPLAINED_RAYS: u64 = 16_384;
+
+/// Pixel (x, y) explained ([`check_explained`]), unless its samples trace more than
+/// [`MAX_EXPLAINED_RAYS`] rays (a deep tree of mirrors and glass, many samples): refused
+/// then, before the memory it would take.
+fn explained(
+    s: &Scene,
+    x: u32,
+    y: u32,
+) -> crate::error::Result<crate::report::explain::Explanation> {
+    check_explained(s, x, y)?;
+    crate::report::explain::explain_within(s, x, y, MAX_EXPLAINED_RAYS).ok_or_else(|| {
+        Error::arg(
+            "pixel",
+            format!(
+                "explaining pixel ({x}, {y}) traces more than {MAX_EXPLAINED_RAYS} rays between its samples, more than the page explains; use rtlab explain --pixel {x},{y} --sample K for one of them"
+            ),
+        )
+    })
+}
 
 /// Refuses to explain a pixel whose document would hold more than [`MAX_EXPLAINED`] samples:
 /// the pixel's own and those of its neighbours that the filter reaches.
@@ -291,8 +335,7 @@ async fn diagram(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Re
         };
         let s = st.scene(&q.words)?;
         let (x, y) = q.pixel(s.camera.width, s.camera.height)?;
-        check_explained(&s, x, y)?;
-        let e = crate::report::explain::explain(&s, x, y);
+        let e = explained(&s, x, y)?;
         // `sample=i`: the i-th of the samples the pixel is made of, in `/api/explain`'s order
         // (the page's selected row; a neighbour's under a wide filter); else its own first.
         let chosen = match q.own.contains_key("sample") {
@@ -369,6 +412,19 @@ async fn render(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Res
             ),
         );
     }
+    // A request refused for its parameters supersedes nothing: they are checked first.
+    let checked = (|| -> std::result::Result<(), Error> {
+        if let Some(a) = q.own.get("aov") {
+            Aov::parse_arg(a)?;
+        }
+        if let Some(p) = q.own.get("pass") {
+            crate::sampling::progressive::parse_pass(p).map_err(|m| Error::arg("pass", m))?;
+        }
+        (state.flags)(&q.words).map(|_| ())
+    })();
+    if let Err(e) = checked {
+        return respond(Err(e.into()));
+    }
     let cancel = state.supersede(stream.as_deref());
     let _running = Running {
         state: state.clone(),
@@ -430,7 +486,8 @@ async fn render(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Res
         if out.cancelled {
             return Err(superseded());
         }
-        png(&out.image.to_rgb8(s.render.encoding))
+        // The bytes as the CLI writes them: the encoding, and the mistakes made in the bytes.
+        png(&out.image.to_rgb8_for(&settings))
     })
     .await;
     if response.status().is_success() {
@@ -447,7 +504,7 @@ async fn render(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Res
 
 /// A render stopped by its token: a newer one on its stream took over (or its client left,
 /// and nobody reads the answer).
-fn superseded() -> Fail {
+pub(super) fn superseded() -> Fail {
     Fail::Status(
         StatusCode::CONFLICT,
         "superseded by a newer render on the same stream".into(),
@@ -483,14 +540,21 @@ fn pass_options(
 }
 
 /// The steps frames of the scene with these options (rendered once, then kept).
-fn frames(st: &State, q: &Params) -> std::result::Result<Frames, Fail> {
+fn frames(
+    st: &State,
+    q: &Params,
+    cancel: &crate::interrupt::Cancel,
+) -> std::result::Result<Frames, Fail> {
     let s = st.scene(&q.words)?;
     if let Some((scene, f)) = super::state::lock(&st.steps).as_ref() {
         if Arc::ptr_eq(scene, &s) {
             return Ok(f.clone());
         }
     }
-    let (plan, mut skipped) = crate::viz::steps::plan(&s);
+    // The frames render a copy whose settings watch the request's token (the cached scene
+    // is shared), so they stop within a few rays once the client has gone.
+    let watched = watched(&s, cancel);
+    let (plan, mut skipped) = crate::viz::steps::plan(&watched);
     let (w, h, spp) = (s.camera.width, s.camera.height, s.render.spp);
     super::state::check_count(
         w as u64 * h as u64 * spp as u64 * plan.len() as u64,
@@ -498,7 +562,10 @@ fn frames(st: &State, q: &Params) -> std::result::Result<Frames, Fail> {
         &format!("{} frames of {w}×{h} pixels × {spp} spp", plan.len()),
         "rtlab steps",
     )?;
-    let frames = crate::viz::steps::render_frames(&s, &plan, &mut skipped);
+    let frames = crate::viz::steps::render_frames(&watched, &plan, &mut skipped);
+    if cancel.is_cancelled() {
+        return Err(superseded()); // half-made frames: never kept
+    }
     let n = frames.len();
     let mut out = Vec::with_capacity(n);
     for (i, f) in frames.iter().enumerate() {
@@ -518,8 +585,9 @@ async fn steps(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Resp
         Ok(q) => q,
         Err(r) => return r,
     };
+    let (cancel, _running) = Running::alone(&state);
     run(state, move |st| {
-        let f = frames(st, &q)?;
+        let f = frames(st, &q, &cancel)?;
         let list: Vec<_> = f
             .iter()
             .enumerate()
@@ -536,9 +604,10 @@ async fn step_frame(axum::extract::State(state): St, RawQuery(raw): RawQuery) ->
         Ok(q) => q,
         Err(r) => return r,
     };
+    let (cancel, _running) = Running::alone(&state);
     run(state, move |st| {
         let i = q.number("i", "i=0")? as usize;
-        let f = frames(st, &q)?;
+        let f = frames(st, &q, &cancel)?;
         match f.get(i) {
             Some((_, png)) => Ok(("image/png", png.clone())),
             None => Err(Error::arg(

@@ -553,9 +553,30 @@ fn bad_parameters_get_the_clis_one_line_messages() {
         "s".repeat(65)
     ));
     assert_eq!(r.status, 400, "{}", r.text());
-    // Options the command line takes twice may repeat in a query too.
+    // Options the command line takes twice may repeat in a query too; others get the
+    // CLI's own message; an endpoint's own key is given once.
     let r = s.get("/api/explain?x=1&y=1&mistake=shadow-acne&mistake=normal-not-normalized");
     assert_eq!(r.status, 200, "{}", r.text());
+    let r = s.get("/api/render.png?traversal=single&traversal=bundle");
+    assert_eq!(r.status, 400);
+    assert_eq!(
+        r.text().trim_end(),
+        cli_error(&[
+            "render",
+            "scenes/spheres.json",
+            "--traversal",
+            "single",
+            "--traversal",
+            "bundle"
+        ])
+    );
+    let r = s.get("/api/render.png?pass=1&pass=2");
+    assert_eq!(r.text(), "error: argument pass: is given twice\n");
+    let r = s.get("/api/diagram.png?x=1&y=1&sample=99999999999");
+    assert_eq!(
+        r.text(),
+        "error: argument sample: 99999999999 is not in 0..=4294967295\n"
+    );
 }
 
 #[test]
@@ -738,6 +759,125 @@ fn concurrent_requests_and_superseded_renders() {
     assert_eq!(r.status, 200);
     // Two 4096-spp renders of 480×360 take minutes on this machine; cancelled, seconds.
     assert!(t0.elapsed() < Duration::from_secs(60), "{:?}", t0.elapsed());
+}
+
+/// What `serve` was started with stays under every request: its switches (a request cannot
+/// turn `--no-shadows` off, nor leave it out), its mistakes (a request's add to them), and a
+/// mistake made in the bytes (`srgb-gamma`) shows in `render.png` as in `rtlab render`.
+#[test]
+fn the_servers_options_hold_under_every_request() {
+    let s = Server::start(
+        &path("scenes/spheres.json"),
+        &["--no-shadows", "--mistake", "no-attenuation"],
+    );
+    let cli = |extra: &[&str]| {
+        let out = tmp(&format!("serve-held-{}.png", extra.join("_")));
+        let mut args = vec!["render", "scenes/spheres.json", "--no-shadows"];
+        args.extend([
+            "--mistake",
+            "no-attenuation",
+            "-q",
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        args.extend(extra);
+        let o = rtlab(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        std::fs::read(&out).unwrap()
+    };
+    let plain = cli(&["--passes", "1"]);
+    for target in [
+        "/api/render.png?pass=1",
+        "/api/render.png?pass=1&shadows",
+        "/api/render.png?pass=1&mistake=no-attenuation",
+    ] {
+        let r = s.get(target);
+        assert_eq!(r.status, 200, "{target}: {}", r.text());
+        assert_eq!(
+            r.body, plain,
+            "{target}: not rtlab render --no-shadows --mistake …"
+        );
+    }
+    let r = s.get("/api/render.png?pass=1&mistake=srgb-gamma");
+    assert_eq!(r.status, 200, "{}", r.text());
+    assert_eq!(r.body, cli(&["--passes", "1", "--mistake", "srgb-gamma"]));
+    assert_ne!(r.body, plain, "srgb-gamma changes the bytes");
+    let scene: serde_json::Value = serde_json::from_str(&s.get("/api/scene").text()).unwrap();
+    assert_eq!(scene["render"]["shadows"], false, "{scene}");
+}
+
+/// Steps and diffs whose clients went away stop too, as renders do: they do not keep the
+/// server's two work slots busy.
+#[test]
+fn abandoned_steps_and_diffs_stop() {
+    let s = Server::start(&path("scenes/glass.json"), &[]);
+    let png = {
+        let out = tmp("serve-abandoned.png");
+        let o = rtlab(&[
+            "render",
+            "scenes/glass.json",
+            "-q",
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        std::fs::read(&out).unwrap()
+    };
+    let steps = format!(
+        "GET /api/steps?spp=9&sampler=grid HTTP/1.1\r\nHost: {}\r\n\r\n",
+        s.addr
+    );
+    let diff = [
+        format!(
+            "POST /api/diff?spp=64&sampler=grid HTTP/1.1\r\nHost: {}\r\nContent-Type: image/png\r\nContent-Length: {}\r\n\r\n",
+            s.addr,
+            png.len()
+        )
+        .into_bytes(),
+        png.clone(),
+    ]
+    .concat();
+    // Both slots taken by abandoned work, then a preview: on two cores the glass's steps at
+    // 9 spp take 19 s and its diff at 64 spp 100 s when nothing stops them.
+    for (request, within) in [(steps.into_bytes(), 10), (diff, 45)] {
+        for _ in 0..2 {
+            let mut c = TcpStream::connect(&s.addr).unwrap();
+            c.write_all(&request).unwrap();
+            std::thread::sleep(Duration::from_millis(300));
+            drop(c);
+        }
+        let t0 = Instant::now();
+        let r = s.get("/api/render.png?pass=1");
+        assert_eq!(r.status, 200);
+        assert!(
+            t0.elapsed() < Duration::from_secs(within),
+            "{:?}",
+            t0.elapsed()
+        );
+    }
+}
+
+/// A request refused for its parameters does not supersede the render running on its
+/// stream; and an explanation that would keep too many rays is refused before it is made.
+#[test]
+fn refused_requests_leave_running_work_alone() {
+    let s = Server::start(&path("scenes/spheres.json"), &[]);
+    std::thread::scope(|sc| {
+        let running = sc.spawn(|| s.get("/api/render.png?pass=3&stream=r"));
+        std::thread::sleep(Duration::from_millis(200));
+        for bad in ["spp=x", "pass=0", "aov=bogus"] {
+            let r = s.get(&format!("/api/render.png?stream=r&{bad}"));
+            assert_eq!(r.status, 400, "{bad}: {}", r.text());
+        }
+        let running = running.join().unwrap();
+        assert_eq!(running.status, 200, "{}", running.text());
+    });
+    let glass = Server::start(&path("scenes/glass.json"), &[]);
+    let r = glass.get("/api/explain?x=48&y=10&width=64&height=40&spp=1024&sampler=random");
+    assert_eq!(r.status, 400, "{}", r.text());
+    assert!(r.text().contains("more than 16384 rays"), "{}", r.text());
+    let r = glass.get("/api/explain?x=48&y=10&width=64&height=40&spp=16&sampler=random");
+    assert_eq!(r.status, 200, "{}", r.text());
 }
 
 /// An AOV on a stream is superseded as the colour image is: it stops (409) instead of
