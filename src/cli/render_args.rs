@@ -104,96 +104,73 @@ impl RenderArgs {
     /// These options (a request's, on `rtlab serve`) over `base` (the options the server was
     /// started with): an option given here wins; a switch given to either is on, except
     /// that a request cannot turn off a switch `base` gives (its opposite is dropped);
-    /// mistakes add up. The destructuring is exhaustive, as in [`RenderArgs::to_flags`].
+    /// mistakes add up. (The struct literal names every field: a new option does not compile
+    /// until it is merged here too.)
     pub fn over(self, base: &RenderArgs) -> RenderArgs {
-        let RenderArgs {
-            width,
-            height,
-            spp,
-            sampler,
-            filter,
-            subsample,
-            adaptive_threshold,
-            max_depth,
-            seed,
-            encoding,
-            accel,
-            traversal,
-            no_shadows,
-            no_reflections,
-            no_refractions,
-            no_textures,
-            no_depth_of_field,
-            max_rays,
-            course_stage,
-            texture_filter,
-            shadows,
-            reflections,
-            refractions,
-            textures,
-            depth_of_field,
-            quiet,
-            mistakes,
-        } = self;
         // (on, off) of one switch and its negation.
         let switch = |on: bool, off: bool, base_on: bool, base_off: bool| {
             ((on && !base_off) || base_on, (off && !base_on) || base_off)
         };
-        let (shadows, no_shadows) = switch(shadows, no_shadows, base.shadows, base.no_shadows);
+        let (shadows, no_shadows) =
+            switch(self.shadows, self.no_shadows, base.shadows, base.no_shadows);
         let (reflections, no_reflections) = switch(
-            reflections,
-            no_reflections,
+            self.reflections,
+            self.no_reflections,
             base.reflections,
             base.no_reflections,
         );
         let (refractions, no_refractions) = switch(
-            refractions,
-            no_refractions,
+            self.refractions,
+            self.no_refractions,
             base.refractions,
             base.no_refractions,
         );
-        let (textures, no_textures) =
-            switch(textures, no_textures, base.textures, base.no_textures);
+        let (textures, no_textures) = switch(
+            self.textures,
+            self.no_textures,
+            base.textures,
+            base.no_textures,
+        );
         let (depth_of_field, no_depth_of_field) = switch(
-            depth_of_field,
-            no_depth_of_field,
+            self.depth_of_field,
+            self.no_depth_of_field,
             base.depth_of_field,
             base.no_depth_of_field,
         );
-        let mut all = base.mistakes.clone();
-        for m in mistakes {
-            if !all.contains(&m) {
-                all.push(m);
+        let mut mistakes = base.mistakes.clone();
+        for m in self.mistakes {
+            if !mistakes.contains(&m) {
+                mistakes.push(m);
             }
         }
         RenderArgs {
-            width: width.or(base.width),
-            height: height.or(base.height),
-            spp: spp.or(base.spp),
-            sampler: sampler.or_else(|| base.sampler.clone()),
-            filter: filter.or_else(|| base.filter.clone()),
-            subsample: subsample.or(base.subsample),
-            adaptive_threshold: adaptive_threshold.or(base.adaptive_threshold),
-            max_depth: max_depth.or(base.max_depth),
-            seed: seed.or(base.seed),
-            encoding: encoding.or_else(|| base.encoding.clone()),
-            accel: accel.or_else(|| base.accel.clone()),
-            traversal: traversal.or_else(|| base.traversal.clone()),
+            width: self.width.or(base.width),
+            height: self.height.or(base.height),
+            spp: self.spp.or(base.spp),
+            sampler: self.sampler.or_else(|| base.sampler.clone()),
+            filter: self.filter.or_else(|| base.filter.clone()),
+            subsample: self.subsample.or(base.subsample),
+            adaptive_threshold: self.adaptive_threshold.or(base.adaptive_threshold),
+            max_depth: self.max_depth.or(base.max_depth),
+            seed: self.seed.or(base.seed),
+            encoding: self.encoding.or_else(|| base.encoding.clone()),
+            accel: self.accel.or_else(|| base.accel.clone()),
+            traversal: self.traversal.or_else(|| base.traversal.clone()),
             no_shadows,
             no_reflections,
             no_refractions,
             no_textures,
             no_depth_of_field,
-            max_rays: max_rays.or(base.max_rays),
-            course_stage: course_stage.or_else(|| base.course_stage.clone()),
-            texture_filter: texture_filter.or_else(|| base.texture_filter.clone()),
+            max_rays: self.max_rays.or(base.max_rays),
+            course_stage: self.course_stage.or_else(|| base.course_stage.clone()),
+            texture_filter: self.texture_filter.or_else(|| base.texture_filter.clone()),
             shadows,
             reflections,
             refractions,
             textures,
             depth_of_field,
-            quiet: quiet || base.quiet,
-            mistakes: all,
+            quiet: self.quiet || base.quiet,
+            mistakes,
         }
     }
 

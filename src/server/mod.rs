@@ -11,14 +11,19 @@
 //! |---|---|
 //! | [`params`] | query string → the server's own parameters + render-option words |
 //! | [`state`] | shared state: the scene cache, render streams (cancellation), watch status |
-//! | [`routes`] | the API's handlers |
+//! | [`routes`] | the router, the running of work (slots, cancellation) and the smaller handlers |
+//! | `render` | `/api/render.png`: passes, AOVs, streams a newer render supersedes |
+//! | `explain` | `/api/explain`, `/api/diagram.png`: one pixel, within the server's bounds |
+//! | [`diff`] | `/api/diff`: what is wrong with an uploaded image |
 //! | [`security`] | Host-header check (DNS rebinding), methods, request sizes |
 //! | [`assets`] | the embedded page |
 //! | [`watch`] | live scene: polls the scene file and tells the page |
 
 pub mod assets;
 pub mod diff;
+mod explain;
 pub mod params;
+mod render;
 pub mod routes;
 mod security;
 pub mod state;
