@@ -7,7 +7,7 @@
 
 use crate::error::{Error, Result};
 use crate::sampling::{encode_as, sample_pixel, Filter};
-use crate::scene::Scene;
+use crate::scene::{RenderSettings, Scene};
 use crate::trace::{camera_ray, trace_camera, RayNode, TreeRecorder};
 use glam::{DVec2, DVec3};
 use serde::Serialize;
@@ -50,7 +50,8 @@ pub fn explain(scene: &Scene, x: u32, y: u32) -> Explanation {
 }
 
 /// [`explain`], unless its samples trace more than `max_rays` rays between them (every ray is
-/// kept, a few kilobytes each): `None` once they have, tracing no sample after that one.
+/// kept, a few kilobytes each): `None` once they would, a sample traced then stopping one
+/// ray past the bound, and no sample traced after it.
 pub fn explain_within(scene: &Scene, x: u32, y: u32, max_rays: u64) -> Option<Explanation> {
     let s = &scene.render;
     let rays = std::cell::Cell::new(0u64);
@@ -62,10 +63,23 @@ pub fn explain_within(scene: &Scene, x: u32, y: u32, max_rays: u64) -> Option<Ex
             if rays.get() > max_rays {
                 return DVec3::ZERO; // the explanation is refused: the rest is not traced
             }
+            // One sample may not go past the bound either: its own budget is lowered to one
+            // ray more than is left, and a sample cut by that is one past the bound.
+            let left = max_rays - rays.get();
+            let lowered = (left < s.max_rays).then(|| RenderSettings {
+                max_rays: left + 1,
+                ..s.clone()
+            });
             let mut rec = TreeRecorder::new(scene);
             let mut camera = camera_ray(scene, s, qx, qy, k, film);
-            let r = trace_camera(scene, s, &mut camera, None, &mut rec);
-            rays.set(rays.get() + r.rays);
+            let r = trace_camera(
+                scene,
+                lowered.as_ref().unwrap_or(s),
+                &mut camera,
+                None,
+                &mut rec,
+            );
+            rays.set(rays.get().saturating_add(r.rays));
             let color = if r.color.is_finite() {
                 r.color
             } else {

@@ -1,7 +1,9 @@
 //! `GET /api/render.png`: the image `rtlab render` writes (a progressive pass, an AOV), on a
 //! stream a newer render supersedes.
 
+use super::params::Params;
 use super::routes::{png, query, respond, run, superseded, Fail, Running, St};
+use super::state::State;
 use crate::error::Error;
 use crate::sampling::aov::{render_aov, Aov};
 use axum::extract::RawQuery;
@@ -31,19 +33,21 @@ pub(super) async fn render(axum::extract::State(state): St, RawQuery(raw): RawQu
             ),
         );
     }
-    // A request refused for its parameters supersedes nothing: they are checked first.
-    let checked = (|| -> std::result::Result<(), Error> {
-        if let Some(a) = q.own.get("aov") {
-            Aov::parse_arg(a)?;
+    // A request refused for its parameters supersedes nothing: the scene is loaded and the
+    // pass and AOV checked first (on a blocking thread, outside the work slots, so that a
+    // newer render never waits for a slot its stream's older one holds).
+    let (st, params) = (state.clone(), q);
+    let checked = move || checking_pool().install(|| prepare(&st, &params));
+    let job = match tokio::task::spawn_blocking(checked).await {
+        Ok(Ok(job)) => job,
+        Ok(Err(fail)) => return respond(Err(fail)),
+        Err(_) => {
+            return respond(Err(Fail::Status(
+                StatusCode::INTERNAL_SERVER_ERROR,
+                "the request failed unexpectedly (a bug in rtlab)".into(),
+            )))
         }
-        if let Some(p) = q.own.get("pass") {
-            crate::sampling::progressive::parse_pass(p).map_err(|m| Error::arg("pass", m))?;
-        }
-        (state.flags)(&q.words).map(|_| ())
-    })();
-    if let Err(e) = checked {
-        return respond(Err(e.into()));
-    }
+    };
     let cancel = state.supersede(stream.as_deref());
     let _running = Running {
         state: state.clone(),
@@ -55,48 +59,25 @@ pub(super) async fn render(axum::extract::State(state): St, RawQuery(raw): RawQu
     // that give them (for the page to explain the pixels of the image it shows).
     let headers = Arc::new(std::sync::Mutex::new(Vec::<(&'static str, String)>::new()));
     let headers_out = headers.clone();
-    let mut response = run(state, move |st| {
+    let mut response = run(state, move |_| {
         let add = |name, value| {
             headers_out
                 .lock()
                 .expect("the headers' lock")
                 .push((name, value))
         };
-        let aov = q.own.get("aov").map(|a| Aov::parse_arg(a)).transpose()?;
-        let pass = q
-            .own
-            .get("pass")
-            .map(|p| {
-                crate::sampling::progressive::parse_pass(p)
-                    .map_err(|m| Fail::from(Error::arg("pass", m)))
-            })
-            .transpose()?;
-        let s = st.scene(&q.words)?;
-        let mut settings = match pass {
-            Some(k) => crate::sampling::progressive::pass_settings(
-                &s.render,
-                s.camera.width,
-                s.camera.height,
-                k,
-            )
-            .map_err(|m| Fail::from(Error::arg("pass", m)))?,
-            None => s.render.clone(),
-        };
+        let Job {
+            scene: s,
+            mut settings,
+            aov,
+            pass_options,
+        } = job;
         // Stopped within a few rays once superseded or abandoned (its client gone).
         settings.cancel = settings.cancel.or(&cancel);
-        if let Some(k) = pass {
-            add(PASS_OPTIONS, pass_options(&s.render, &settings));
-            let (w, h) = (s.camera.width, s.camera.height);
-            super::state::check_count(
-                w as u64 * h as u64 * settings.spp as u64,
-                "pass",
-                &format!("pass {k}, {w}×{h} pixels × {} spp,", settings.spp),
-                &format!("rtlab render --passes {k}"),
-            )?;
+        if let Some(options) = pass_options {
+            add(PASS_OPTIONS, options);
         }
         if let Some(aov) = aov {
-            crate::sampling::aov::check_memory(s.camera.width, s.camera.height, &settings)
-                .map_err(|m| Fail::from(Error::arg("aov", m)))?;
             let made = render_aov(&s, &settings, aov).ok_or_else(superseded)?;
             add(AOV_LEGEND, made.legend);
             return png(&made.image);
@@ -119,6 +100,68 @@ pub(super) async fn render(axum::extract::State(state): St, RawQuery(raw): RawQu
         }
     }
     response
+}
+
+/// The threads a render request is checked on (its scene loaded, its BVHs built): not
+/// rayon's global pool, which may be busy with the very render the request is about to
+/// supersede (a load queued behind it waited for it to finish).
+fn checking_pool() -> &'static rayon::ThreadPool {
+    static POOL: std::sync::OnceLock<rayon::ThreadPool> = std::sync::OnceLock::new();
+    POOL.get_or_init(|| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .thread_name(|i| format!("rtlab-check-{i}"))
+            .build()
+            .expect("a thread pool")
+    })
+}
+
+/// A render request checked and ready: its scene, the settings of the pass asked for, the
+/// AOV, and pass K's options for the header.
+struct Job {
+    scene: Arc<crate::scene::Scene>,
+    settings: crate::scene::RenderSettings,
+    aov: Option<Aov>,
+    pass_options: Option<String>,
+}
+
+/// Everything a render request is refused for, checked before it supersedes anything: the
+/// AOV's name, the pass and whether it exists and fits, the render options and the scene.
+fn prepare(st: &State, q: &Params) -> std::result::Result<Job, Fail> {
+    let aov = q.own.get("aov").map(|a| Aov::parse_arg(a)).transpose()?;
+    let pass = q
+        .own
+        .get("pass")
+        .map(|p| {
+            crate::sampling::progressive::parse_pass(p)
+                .map_err(|m| Fail::from(Error::arg("pass", m)))
+        })
+        .transpose()?;
+    let s = st.scene(&q.words)?;
+    let (w, h) = (s.camera.width, s.camera.height);
+    let settings = match pass {
+        Some(k) => crate::sampling::progressive::pass_settings(&s.render, w, h, k)
+            .map_err(|m| Fail::from(Error::arg("pass", m)))?,
+        None => s.render.clone(),
+    };
+    if let Some(k) = pass {
+        super::state::check_count(
+            w as u64 * h as u64 * settings.spp as u64,
+            "pass",
+            &format!("pass {k}, {w}×{h} pixels × {} spp,", settings.spp),
+            &format!("rtlab render --passes {k}"),
+        )?;
+    }
+    if aov.is_some() {
+        crate::sampling::aov::check_memory(w, h, &settings)
+            .map_err(|m| Fail::from(Error::arg("aov", m)))?;
+    }
+    Ok(Job {
+        pass_options: pass.map(|_| pass_options(&s.render, &settings)),
+        scene: s,
+        settings,
+        aov,
+    })
 }
 
 /// The header of an AOV's legend on `/api/render.png?aov=NAME` (form-encoded UTF-8).

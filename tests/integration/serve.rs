@@ -2,7 +2,7 @@
 //! parameters, traversal paths, huge requests, foreign Host headers, concurrency, superseded
 //! renders, a scene file edited and broken while the server runs.
 
-use crate::common::{path, rtlab, stderr, tmp};
+use crate::common::{path, rtlab, stderr, tmp, write_tmp};
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::TcpStream;
 use std::path::{Path, PathBuf};
@@ -863,9 +863,19 @@ fn abandoned_steps_and_diffs_stop() {
 fn refused_requests_leave_running_work_alone() {
     let s = Server::start(&path("scenes/spheres.json"), &[]);
     std::thread::scope(|sc| {
-        let running = sc.spawn(|| s.get("/api/render.png?pass=3&stream=r"));
+        // Pass 6 (256 spp) runs for seconds; the refusals come while it does.
+        let running = sc.spawn(|| s.get("/api/render.png?pass=6&stream=r"));
         std::thread::sleep(Duration::from_millis(200));
-        for bad in ["spp=x", "pass=0", "aov=bogus"] {
+        // Refused by the parser, by the scene's checks, by the pass's.
+        for bad in [
+            "spp=x",
+            "pass=0",
+            "aov=bogus",
+            "sampler=bogus",
+            "mistake=nosuch",
+            "spp=3&sampler=grid",
+            "pass=40",
+        ] {
             let r = s.get(&format!("/api/render.png?stream=r&{bad}"));
             assert_eq!(r.status, 400, "{bad}: {}", r.text());
         }
@@ -878,6 +888,22 @@ fn refused_requests_leave_running_work_alone() {
     assert!(r.text().contains("more than 16384 rays"), "{}", r.text());
     let r = glass.get("/api/explain?x=48&y=10&width=64&height=40&spp=16&sampler=random");
     assert_eq!(r.status, 200, "{}", r.text());
+    // One sample alone cannot pass the bound either, whatever its own budget: nested mirror
+    // glass to depth 64 with no ray budget would trace 2⁶⁵ rays.
+    let deep = write_tmp(
+        "serve-deep.json",
+        r#"{"camera": {"position": [0, 0, 5], "look_at": [0, 0, 0], "width": 64, "height": 48},
+  "render": {"max_depth": 64, "min_contribution": 0},
+  "lights": [{"type": "point", "position": [3, 4, 5]}],
+  "materials": {"glass": {"diffuse": [0.1, 0.1, 0.1], "reflective": [1, 1, 1],
+                          "transparent": [1, 1, 1], "ior": 1.5}},
+  "objects": [{"shape": "sphere", "radius": 1.5, "material": "glass"},
+              {"shape": "sphere", "radius": 1.0, "material": "glass"}]}"#,
+    );
+    let deep = Server::start(&deep, &[]);
+    let r = deep.get("/api/explain?x=32&y=24&max-rays=4294967295");
+    assert_eq!(r.status, 400, "{}", r.text());
+    assert!(r.text().contains("more than 16384 rays"), "{}", r.text());
 }
 
 /// An AOV on a stream is superseded as the colour image is: it stops (409) instead of
