@@ -362,11 +362,9 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
         bar.enable_steady_tick(std::time::Duration::from_millis(200));
         bar
     });
-    // The pass a budgeted render reached (number, spp, subsample), for the stats.
-    let mut reached = args
-        .passes
-        .map(|k| (k, scene.render.spp, scene.render.subsample));
-    // The settings of the image written: the scene's, its pass K, or the budget's last pass.
+    // The pass written (`--passes K`, or the last a budget completed), for the stats, and
+    // its settings when they are not the scene's (under a budget).
+    let mut reached = args.passes;
     let mut written = None;
     let result = if let Some(budget) = args.time_budget {
         let counting = crate::sampling::Counting::totals_if(stats_format.is_some());
@@ -377,7 +375,7 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
         crate::interrupt::check()?;
         let pass = pass.ok_or_else(|| Error::Other("no pass was completed".into()))?;
         said = reached_lines(&scene, &pass, args.passes, None);
-        reached = Some((pass.index, pass.settings.spp, pass.settings.subsample));
+        reached = Some(pass.index);
         written = Some(pass.settings.clone());
         pass.output
     } else {
@@ -411,9 +409,8 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
         eprintln!("{line}");
     }
 
-    let spp = reached.map_or(scene.render.spp, |r| r.1);
-    let subsample = reached.map_or(scene.render.subsample, |r| r.2);
-    let passes = reached.map(|r| json!(r.0));
+    let (spp, subsample) = (written.spp, written.subsample);
+    let passes = reached.map(|k| json!(k));
     if let (Some(format), Some(stats)) = (stats_format, &result.stats) {
         let trace = result.trace_seconds;
         let mrays = stats.rays.total as f64 / trace.max(1e-9) / 1e6;
@@ -490,11 +487,11 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
             };
             // A budgeted render's counts are its last pass's (the image written), not the sum.
             let of_pass = match (args.time_budget, reached) {
-                (Some(_), Some((1, ..))) => "pass 1 (the image written): ".to_string(),
-                (Some(_), Some((k, ..))) => {
+                (Some(_), Some(1)) => "pass 1 (the image written): ".to_string(),
+                (Some(_), Some(k)) => {
                     format!("pass {k} (the image written; earlier passes not counted): ")
                 }
-                (None, Some((k, ..))) => format!("pass {k}: "), // --passes K traces pass K only
+                (None, Some(k)) => format!("pass {k}: "), // --passes K traces pass K only
                 _ => String::new(),
             };
             // Bundles asked for and none made (the line after says why): every ray went alone.

@@ -2,7 +2,7 @@
 //! stream a newer render supersedes.
 
 use super::params::Params;
-use super::routes::{png, query, respond, run, superseded, Fail, Running, St};
+use super::routes::{blocking, png, query, run, superseded, Fail, Running, St};
 use super::state::State;
 use crate::error::Error;
 use crate::sampling::aov::{render_aov, Aov};
@@ -38,15 +38,9 @@ pub(super) async fn render(axum::extract::State(state): St, RawQuery(raw): RawQu
     // newer render never waits for a slot its stream's older one holds).
     let (st, params) = (state.clone(), q);
     let checked = move || checking_pool().install(|| prepare(&st, &params));
-    let job = match tokio::task::spawn_blocking(checked).await {
-        Ok(Ok(job)) => job,
-        Ok(Err(fail)) => return respond(Err(fail)),
-        Err(_) => {
-            return respond(Err(Fail::Status(
-                StatusCode::INTERNAL_SERVER_ERROR,
-                "the request failed unexpectedly (a bug in rtlab)".into(),
-            )))
-        }
+    let job = match blocking(checked).await {
+        Ok(job) => job,
+        Err(refused) => return refused,
     };
     let cancel = state.supersede(stream.as_deref());
     let _running = Running {

@@ -82,17 +82,31 @@ where
         let _permit = permit;
         work(&st)
     };
+    match blocking(work).await {
+        Ok(answer) => respond(Ok(answer)),
+        Err(refused) => refused,
+    }
+}
+
+/// Runs `work` on a blocking thread, outside the work slots: its value, or the response
+/// to give when it failed (its own answer, or a 500 if it panicked).
+pub(super) async fn blocking<T, F>(work: F) -> std::result::Result<T, Response>
+where
+    T: Send + 'static,
+    F: FnOnce() -> std::result::Result<T, Fail> + Send + 'static,
+{
     match tokio::task::spawn_blocking(work).await {
-        Ok(answer) => respond(answer),
-        Err(_) => super::security::refuse(
+        Ok(Ok(value)) => Ok(value),
+        Ok(Err(fail)) => Err(respond(Err(fail))),
+        Err(_) => Err(super::security::refuse(
             StatusCode::INTERNAL_SERVER_ERROR,
             "the request failed unexpectedly (a bug in rtlab)",
-        ),
+        )),
     }
 }
 
 /// The response for a handler's answer.
-pub(super) fn respond(answer: Answer) -> Response {
+fn respond(answer: Answer) -> Response {
     match answer {
         Ok((kind, bytes)) => (
             [
