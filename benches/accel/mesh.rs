@@ -1,0 +1,205 @@
+//! One mesh: rounds of Embree's harness and of rtlab's passes, alternating, and their medians.
+
+use crate::camera::HarnessCamera;
+use crate::embree::run_embree;
+use crate::inputs::mesh_scene;
+use crate::passes::{build_seconds, bundle_pass, camera_pass, mesh_only_seconds, peak_memory_mib};
+use crate::render::{render_mrays, render_mrays_counting, render_parts, render_view};
+use crate::shadow::{shadow_bundle_pass, shadow_pass, shadow_verdicts};
+use crate::{median, H, W};
+use rtlab::shapes::Shape;
+use std::path::Path;
+use std::time::Instant;
+
+pub struct MeshRow {
+    pub name: String,
+    pub triangles: usize,
+    pub load_s: f64,
+    pub explain_ms: f64,
+    pub build_ms: f64,
+    pub camera: f64,
+    pub bundle: f64,
+    /// The renderer's own trace time for the same view (generation, traversal, shading of
+    /// a diffuse material without lights, film): single rays and bundles.
+    pub render: f64,
+    pub render_bundle: f64,
+    /// The single-ray render again, counting as `--stats` does; and the bundled one.
+    pub render_stats: f64,
+    pub render_bundle_stats: f64,
+    /// Seconds of the bundled render's own camera rays: made; made and walked.
+    pub parts: (f64, f64),
+    pub mesh_only: f64,
+    pub shadow: f64,
+    /// The same shadow rays in 4×4 bundles (`Accel::occluded_bundle`).
+    pub shadow_bundle: f64,
+    pub peak_mib: Option<f64>,
+    pub bytes_per_tri: f64,
+    pub hits: u64,
+    pub sum_t: f64,
+    pub occluded: (u64, u64),
+    pub embree: Option<EmbreeSummary>,
+}
+
+pub struct EmbreeSummary {
+    pub build_ms: f64,
+    pub camera: f64,
+    pub packet8: f64,
+    pub packet16: f64,
+    pub shadow: f64,
+    pub peak_mib: f64,
+    pub hits: u64,
+    pub sum_t: f64,
+    pub occluded: (u64, u64),
+    pub pixels_differ: usize,
+}
+
+pub fn bench_mesh(
+    name: &str,
+    obj: &Path,
+    runs: usize,
+    pool: &rayon::ThreadPool,
+    embree: Option<&Path>,
+    tmp: &Path,
+) -> MeshRow {
+    println!("== {name} ({})", obj.display());
+    let t0 = Instant::now();
+    let scene = pool.install(|| mesh_scene(obj, tmp));
+    let load_s = t0.elapsed().as_secs_f64();
+    let t1 = Instant::now();
+    let e = rtlab::cli::explain::explain(&scene, scene.camera.width / 2, scene.camera.height / 2);
+    let explain_ms = t1.elapsed().as_secs_f64() * 1e3;
+    std::hint::black_box(e);
+    let Shape::Mesh(mesh) = &scene.objects[0].shape else {
+        unreachable!()
+    };
+    let triangles = mesh.faces.len();
+    let bytes_per_tri = (mesh.accel_bytes()
+        + mesh.faces.len() * 12
+        + (mesh.positions.len() + mesh.normals.len()) * 24
+        + mesh.uvs.len() * 16) as f64
+        / triangles as f64;
+    let cam = HarnessCamera::new(&scene);
+    let ppm = tmp.join(format!("{name}.ppm"));
+    let (mut b, mut c, mut m, mut s) = (vec![], vec![], vec![], vec![]);
+    let (mut eb, mut ec, mut es, mut em) = (vec![], vec![], vec![], vec![]);
+    let (mut e8, mut e16, mut bu, mut rs, mut rb) = (vec![], vec![], vec![], vec![], vec![]);
+    let (mut rc, mut rbc, mut sb, mut pr, mut pw) = (vec![], vec![], vec![], vec![], vec![]);
+    let view = render_view(obj, &cam, tmp);
+    let mut last_embree = None;
+    let mut last = None;
+    for round in 0..runs {
+        if let Some(bin) = embree {
+            if let Some(e) = run_embree(bin, obj, &ppm, "single,packet8,packet16,shadow") {
+                eb.push(e.build_ms);
+                ec.push(e.single);
+                e8.push(e.packet8);
+                e16.push(e.packet16);
+                es.push(e.shadow);
+                em.push(
+                    run_embree(bin, obj, &ppm, "single,shadow").map_or(e.peak_mib, |s| s.peak_mib),
+                );
+                last_embree = Some(e);
+            } else if round == 0 {
+                println!("  Embree harness failed on this mesh");
+            }
+        }
+        b.push(build_seconds(&scene, pool) * 1e3);
+        let pass = camera_pass(&scene, &cam, pool);
+        c.push((W * H) as f64 / pass.seconds / 1e6);
+        let (secs, rays, occ) = shadow_pass(&scene, &cam, &pass, pool);
+        s.push(rays as f64 / secs / 1e6);
+        let (secs, verdicts) = shadow_bundle_pass(&scene, &cam, &pass, pool);
+        if round == 0 {
+            assert!(
+                verdicts == shadow_verdicts(&scene, &cam, &pass),
+                "{name}: the shadow bundles found other verdicts than single rays"
+            );
+        }
+        sb.push(rays as f64 / secs / 1e6);
+        m.push((W * H) as f64 / mesh_only_seconds(&scene, &cam, pool) / 1e6);
+        let bundled = bundle_pass(&scene, &cam, pool);
+        assert!(
+            bundled.1 == pass.t,
+            "{name}: the bundles found other hits than single rays"
+        );
+        bu.push((W * H) as f64 / bundled.0 / 1e6);
+        rs.push(render_mrays(&view, rtlab::accel::Traversal::Single, pool));
+        rb.push(render_mrays(&view, rtlab::accel::Traversal::Bundle, pool));
+        pr.push(render_parts(&view, pool, false));
+        pw.push(render_parts(&view, pool, true));
+        rc.push(render_mrays_counting(
+            &view,
+            rtlab::accel::Traversal::Single,
+            true,
+            pool,
+        ));
+        rbc.push(render_mrays_counting(
+            &view,
+            rtlab::accel::Traversal::Bundle,
+            true,
+            pool,
+        ));
+        println!(
+            "  round {}: build {:.1} ms, camera {:.2} Mrays/s (bundles {:.2}, render {:.2} / {:.2}), shadow {:.2} Mrays/s{}",
+            round + 1,
+            b[round],
+            c[round],
+            bu[round],
+            rs[round],
+            rb[round],
+            s[round],
+            match (ec.last(), es.last()) {
+                (Some(x), Some(y)) if ec.len() == round + 1 => format!(
+                    "  | Embree build {:.1} ms, camera {x:.2}, shadow {y:.2}",
+                    eb[round]
+                ),
+                _ => String::new(),
+            }
+        );
+        last = Some((pass, rays, occ));
+    }
+    let (pass, rays, occ) = last.expect("at least one round");
+    let embree = last_embree.map(|e| {
+        let pixels_differ = e
+            .mask
+            .iter()
+            .zip(&pass.t)
+            .filter(|(&hit, &t)| hit != (t >= 0.0))
+            .count();
+        EmbreeSummary {
+            build_ms: median(eb),
+            camera: median(ec),
+            packet8: median(e8),
+            packet16: median(e16),
+            shadow: median(es),
+            peak_mib: median(em),
+            hits: e.hits,
+            sum_t: e.sum_t,
+            occluded: (e.shadow_rays, e.occluded),
+            pixels_differ,
+        }
+    });
+    MeshRow {
+        name: name.to_string(),
+        triangles,
+        load_s,
+        explain_ms,
+        build_ms: median(b),
+        camera: median(c),
+        bundle: median(bu),
+        render: median(rs),
+        render_bundle: median(rb),
+        render_stats: median(rc),
+        render_bundle_stats: median(rbc),
+        parts: (median(pr), median(pw)),
+        mesh_only: median(m),
+        shadow: median(s),
+        shadow_bundle: median(sb),
+        peak_mib: peak_memory_mib(obj),
+        bytes_per_tri,
+        hits: pass.hits,
+        sum_t: pass.sum_t,
+        occluded: (rays, occ),
+        embree,
+    }
+}
