@@ -9,6 +9,11 @@
 //! camera-ray checksum (hits, Σt) compared with Embree's, pixel by pixel. Then the Whitted
 //! scene (`scenes/whitted.json`): whole-render Mrays/s, time to first image (the release
 //! binary, process start to PNG written) and explain latency of one pixel.
+//! The meshes' last table holds the speed goals of issue 21 (camera bundles against
+//! `rtcIntersect1` and `rtcIntersect16`, shadow bundles against `rtcOccluded1`, the bundled
+//! render against `rtcIntersect1`), met or not by the ratio of the medians, with each
+//! round's own ratio beside it (rtlab and Embree timed in the same round): how far the
+//! verdict stands from the machine's noise.
 //!
 //! Environment: `RTLAB_BENCH_RUNS` (rounds, default 5), `EMBREE_BENCH` (the harness binary;
 //! otherwise it is built from ../shared/bench/embree with its build.sh when Embree's headers
@@ -40,7 +45,7 @@ use passes::{bundle_pass, camera_pass, child_memory};
 use render::{render_mrays, render_mrays_counting, render_parts, render_view};
 use shadow::{shadow_bundle_pass, shadow_pass};
 use std::path::Path;
-use table::print_mesh_table;
+use table::{print_goals, print_mesh_table};
 use whitted::bench_whitted;
 
 /// The rtlab binary's own allocator (src/main.rs), so that the render rows time the render
@@ -99,6 +104,7 @@ fn main() {
         ));
     }
     print_mesh_table(&rows);
+    print_goals(&rows);
     if filters.is_empty() || filters.iter().any(|f| "whitted".contains(f.as_str())) {
         bench_whitted(runs, &pool, tmp.path());
     }

@@ -38,6 +38,20 @@ pub struct MeshRow {
     pub sum_t: f64,
     pub occluded: (u64, u64),
     pub embree: Option<EmbreeSummary>,
+    /// Each round's own ratios to Embree's run of that round (rounds where it ran).
+    pub paired: Vec<Paired>,
+}
+
+/// One round's ratios of rtlab to Embree, both timed in that round: the machine's load,
+/// which drifts over minutes, is then common to both sides of each ratio.
+pub struct Paired {
+    /// Camera bundles / `rtcIntersect1`, and / `rtcIntersect16`.
+    pub bundle_x1: f64,
+    pub bundle_x16: f64,
+    /// Shadow bundles / `rtcOccluded1`.
+    pub shadow_x1: f64,
+    /// The bundled render's trace / `rtcIntersect1`.
+    pub render_x1: f64,
 }
 
 pub struct EmbreeSummary {
@@ -87,6 +101,7 @@ pub fn bench_mesh(
     let view = render_view(obj, &cam, tmp);
     let mut last_embree = None;
     let mut last = None;
+    let mut paired = Vec::new();
     for round in 0..runs {
         if let Some(bin) = embree {
             if let Some(e) = run_embree(bin, obj, &ppm, "single,packet8,packet16,shadow") {
@@ -156,6 +171,14 @@ pub fn bench_mesh(
                 _ => String::new(),
             }
         );
+        if ec.len() == round + 1 {
+            paired.push(Paired {
+                bundle_x1: bu[round] / ec[round],
+                bundle_x16: bu[round] / e16[round],
+                shadow_x1: sb[round] / es[round],
+                render_x1: rb[round] / ec[round],
+            });
+        }
         last = Some((pass, rays, occ));
     }
     let (pass, rays, occ) = last.expect("at least one round");
@@ -201,5 +224,6 @@ pub fn bench_mesh(
         sum_t: pass.sum_t,
         occluded: (rays, occ),
         embree,
+        paired,
     }
 }

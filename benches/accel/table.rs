@@ -1,6 +1,6 @@
 //! The tables printed after the rounds.
 
-use crate::mesh::{EmbreeSummary, MeshRow};
+use crate::mesh::{EmbreeSummary, MeshRow, Paired};
 use crate::{H, THREADS, W};
 
 pub fn print_mesh_table(rows: &[MeshRow]) {
@@ -143,5 +143,78 @@ pub fn print_mesh_table(rows: &[MeshRow]) {
             );
         }
         println!();
+    }
+}
+
+/// A speed goal of issue 21: rtlab's speed over one of Embree's, at least `at`.
+struct Goal {
+    what: &'static str,
+    at: f64,
+    /// The ratio of the medians (the tables' ratio).
+    medians: fn(&MeshRow, &EmbreeSummary) -> f64,
+    /// One round's own ratio.
+    round: fn(&Paired) -> f64,
+}
+
+const GOALS: [Goal; 4] = [
+    Goal {
+        what: "camera bundles >= 1.0x rtcIntersect1",
+        at: 1.0,
+        medians: |r, e| r.bundle / e.camera,
+        round: |p| p.bundle_x1,
+    },
+    Goal {
+        what: "camera bundles >= 0.5x rtcIntersect16",
+        at: 0.5,
+        medians: |r, e| r.bundle / e.packet16,
+        round: |p| p.bundle_x16,
+    },
+    Goal {
+        what: "shadow bundles >= 0.7x rtcOccluded1",
+        at: 0.7,
+        medians: |r, e| r.shadow_bundle / e.shadow,
+        round: |p| p.shadow_x1,
+    },
+    Goal {
+        what: "bundled render >= 0.8x rtcIntersect1",
+        at: 0.8,
+        medians: |r, e| r.render_bundle / e.camera,
+        round: |p| p.render_x1,
+    },
+];
+
+/// Issue 21's speed goals, met or not by the ratio of the medians (the tables' verdict), with
+/// the rounds' own ratios beside it: how far the verdict stands from the noise.
+pub fn print_goals(rows: &[MeshRow]) {
+    if rows.iter().all(|r| r.embree.is_none()) {
+        return;
+    }
+    println!();
+    println!("the speed goals of issue 21: the ratio of the medians above, and each round's own ratio (rtlab and Embree timed in the same round): lowest, highest, rounds at the goal");
+    println!(
+        "{:<38} {:<17} {:>6} {:<8} | {:>7} {:>7} {:>6}",
+        "goal", "mesh", "ratio", "", "lowest", "highest", "rounds"
+    );
+    for goal in &GOALS {
+        let mut first = true;
+        for r in rows {
+            let Some(e) = &r.embree else { continue };
+            let ratio = (goal.medians)(r, e);
+            let rounds: Vec<f64> = r.paired.iter().map(goal.round).collect();
+            let lowest = rounds.iter().copied().fold(f64::INFINITY, f64::min);
+            let highest = rounds.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            let met = rounds.iter().filter(|&&x| x >= goal.at).count();
+            println!(
+                "{:<38} {:<17} {:>6.3} {:<8} | {:>7.3} {:>7.3} {:>6}",
+                if first { goal.what } else { "" },
+                r.name,
+                ratio,
+                if ratio >= goal.at { "met" } else { "NOT MET" },
+                lowest,
+                highest,
+                format!("{met}/{}", rounds.len()),
+            );
+            first = false;
+        }
     }
 }
