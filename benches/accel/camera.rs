@@ -19,18 +19,23 @@ pub struct HarnessCamera {
 }
 
 pub type V = [f32; 3];
+#[inline]
 pub fn add(a: V, b: V) -> V {
     [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
 }
+#[inline]
 pub fn sub(a: V, b: V) -> V {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
+#[inline]
 pub fn mul(a: V, s: f32) -> V {
     [a[0] * s, a[1] * s, a[2] * s]
 }
+#[inline]
 pub fn dot(a: V, b: V) -> f32 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
+#[inline]
 pub fn cross(a: V, b: V) -> V {
     [
         a[1] * b[2] - a[2] * b[1],
@@ -38,6 +43,7 @@ pub fn cross(a: V, b: V) -> V {
         a[0] * b[1] - a[1] * b[0],
     ]
 }
+#[inline]
 pub fn norm(a: V) -> V {
     mul(a, 1.0 / dot(a, a).sqrt())
 }
@@ -76,6 +82,7 @@ impl HarnessCamera {
         }
     }
 
+    #[inline]
     pub fn ray(&self, x: usize, y: usize) -> Ray {
         let u = (2.0 * (x as f32 + 0.5) / W as f32 - 1.0) * self.hw;
         let v = (1.0 - 2.0 * (y as f32 + 0.5) / H as f32) * self.hh;

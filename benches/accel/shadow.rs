@@ -10,6 +10,7 @@ use std::time::Instant;
 
 /// Pixel (x, y)'s shadow ray, as the harness casts it: from its camera hit (None for a miss)
 /// towards the light, with the distance to the light as t_max.
+#[inline]
 pub fn shadow_ray(
     cam: &HarnessCamera,
     camera: &CameraPass,
