@@ -147,7 +147,7 @@ fn a_clipped_block_is_captioned_by_its_pixels_and_drawn_inside_its_panels() {
 
 /// The panels' headings say what the walk did at each level: the root's real number of
 /// children, and, where the bundle opened no box one level down, why: the boxes entered were
-/// leaves (the prism's root holds two leaves), or two or fewer rays entered them and went on
+/// leaves (the prism's root holds two leaves), or one ray entered them and went on
 /// alone (a 1×1 image's single ray); "nothing to test" only where no ray entered a box.
 #[test]
 fn the_headings_say_what_the_walk_did() {
@@ -195,7 +195,7 @@ fn the_headings_say_what_the_walk_did() {
     );
     assert!(
         all.contains("2. One level down: no box opened")
-            && all.contains("Both boxes entered had two or fewer rays each: those went on alone"),
+            && all.contains("Both boxes entered had one ray each, which went on alone"),
         "{all}"
     );
     assert!(!all.contains("nothing to test"), "{all}");

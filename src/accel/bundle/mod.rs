@@ -32,11 +32,16 @@ use crate::math::Ray;
 pub const BUNDLE: usize = LANES;
 
 /// A subtree that no more than this many of the bundle's rays enter is walked by each of them
-/// alone: the lane test's sixteen lanes cost the same for one ray as for sixteen. (Timed on
-/// the terrain against one, three and four: on an AVX2 processor one ran at 0.96 of two,
-/// three at 0.85, four at 0.86; on an AVX-512 Xeon three and four could not be told from
-/// two in alternating runs: book appendix, "The Xeon again".)
-pub const FEW: u32 = 2;
+/// alone: a lone ray walks faster by itself. Two rays still gain from walking together:
+/// at each face the part of Cramer's rule that depends only on the face and the origin
+/// ([`crate::shapes::FaceFrom`]) is computed once for both when they share their origin,
+/// and with AVX-512 the sixteen lanes of a box or face test are one instruction a step.
+/// (Timed on the terrain on an AVX-512 Xeon against two, book appendix "A calm morning on
+/// the Xeon": the bundled render at 1.03 (eight pairs, every one faster), the camera
+/// bundles at 1.02, the shadow bundles at about 1.07; capped to AVX2 on the same
+/// processor, 1.00 and 0.99. Earlier, on an AVX2 processor, one ran at 0.96 of two and
+/// three and four at 0.85 and 0.86; on the Xeon three and four could not be told from two.)
+pub const FEW: u32 = 1;
 
 /// What a bundle traversal did: nodes opened (once per bundle), and per ray the nodes it
 /// was slab-tested at (what the single-ray walk would call the nodes it visited; counted by

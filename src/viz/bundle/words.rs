@@ -108,6 +108,10 @@ impl Unopened {
             (true, k) => format!("the {k} boxes entered"),
             (false, k) => format!("{k} of the boxes entered"),
         };
+        let few = match FEW {
+            1 => "one ray".to_string(),
+            k => format!("{k} or fewer rays"),
+        };
         let mut parts = Vec::new();
         if self.leaves > 0 {
             let k = self.leaves;
@@ -121,7 +125,7 @@ impl Unopened {
         if self.alone > 0 {
             let k = self.alone;
             parts.push(format!(
-                "{} had two or fewer rays{}: those went on alone (the single-ray walk)",
+                "{} had {few}{}, which went on alone (the single-ray walk)",
                 subject(k),
                 plural(k, "", " each")
             ));
@@ -129,11 +133,16 @@ impl Unopened {
         if self.passed > 0 {
             let k = self.passed;
             parts.push(format!(
-                "{} {} not opened: by then {} rays had found nearer hits (or two or fewer \
-                 were left, and went on alone)",
+                "{} {} not opened: by then {} rays had found nearer hits (or {} \
+                 left, and went on alone)",
                 subject(k),
                 plural(k, "was", "were"),
-                plural(k, "its", "their")
+                plural(k, "its", "their"),
+                if FEW == 1 {
+                    "one was".to_string()
+                } else {
+                    format!("{FEW} or fewer were")
+                }
             ));
         }
         if parts.is_empty() {
