@@ -39,7 +39,7 @@ pub const BUNDLE: usize = LANES;
 /// (Timed on the terrain on an AVX-512 Xeon against two, book appendix "A calm morning on
 /// the Xeon": the bundled render at 1.03 (eight pairs, every one faster), the camera
 /// bundles at 1.02, the shadow bundles at about 1.07; capped to AVX2 on the same
-/// processor, 1.00 and 0.99. Earlier, on an AVX2 processor, one ran at 0.96 of two and
+/// processor, 1.00 and 0.98. Earlier, on an AVX2 processor, one ran at 0.96 of two and
 /// three and four at 0.85 and 0.86; on the Xeon three and four could not be told from two.)
 pub const FEW: u32 = 1;
 
