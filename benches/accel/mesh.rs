@@ -38,7 +38,7 @@ pub struct MeshRow {
     pub sum_t: f64,
     pub occluded: (u64, u64),
     pub embree: Option<EmbreeSummary>,
-    /// Each round's own ratios to Embree's run of that round (rounds where it ran).
+    /// Each round's own ratios to Embree's run of that round (the rounds where it ran).
     pub paired: Vec<Paired>,
 }
 
@@ -103,8 +103,11 @@ pub fn bench_mesh(
     let mut last = None;
     let mut paired = Vec::new();
     for round in 0..runs {
+        // Did Embree's harness run in this round (its lists then end with this round's)?
+        let mut embree_ran = false;
         if let Some(bin) = embree {
             if let Some(e) = run_embree(bin, obj, &ppm, "single,packet8,packet16,shadow") {
+                embree_ran = true;
                 eb.push(e.build_ms);
                 ec.push(e.single);
                 e8.push(e.packet8);
@@ -163,20 +166,21 @@ pub fn bench_mesh(
             rs[round],
             rb[round],
             s[round],
-            match (ec.last(), es.last()) {
-                (Some(x), Some(y)) if ec.len() == round + 1 => format!(
-                    "  | Embree build {:.1} ms, camera {x:.2}, shadow {y:.2}",
-                    eb[round]
+            match (eb.last(), ec.last(), es.last()) {
+                (Some(bm), Some(x), Some(y)) if embree_ran => format!(
+                    "  | Embree build {bm:.1} ms, camera {x:.2}, shadow {y:.2}"
                 ),
                 _ => String::new(),
             }
         );
-        if ec.len() == round + 1 {
+        if let (true, Some(&e1), Some(&e16), Some(&eo)) =
+            (embree_ran, ec.last(), e16.last(), es.last())
+        {
             paired.push(Paired {
-                bundle_x1: bu[round] / ec[round],
-                bundle_x16: bu[round] / e16[round],
-                shadow_x1: sb[round] / es[round],
-                render_x1: rb[round] / ec[round],
+                bundle_x1: bu[round] / e1,
+                bundle_x16: bu[round] / e16,
+                shadow_x1: sb[round] / eo,
+                render_x1: rb[round] / e1,
             });
         }
         last = Some((pass, rays, occ));

@@ -201,11 +201,16 @@ pub fn print_goals(rows: &[MeshRow]) {
             let Some(e) = &r.embree else { continue };
             let ratio = (goal.medians)(r, e);
             let rounds: Vec<f64> = r.paired.iter().map(goal.round).collect();
-            let lowest = rounds.iter().copied().fold(f64::INFINITY, f64::min);
-            let highest = rounds.iter().copied().fold(f64::NEG_INFINITY, f64::max);
             let met = rounds.iter().filter(|&&x| x >= goal.at).count();
+            let (lowest, highest) = if rounds.is_empty() {
+                ("-".to_string(), "-".to_string())
+            } else {
+                let low = rounds.iter().copied().fold(f64::INFINITY, f64::min);
+                let high = rounds.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+                (format!("{low:.3}"), format!("{high:.3}"))
+            };
             println!(
-                "{:<38} {:<17} {:>6.3} {:<8} | {:>7.3} {:>7.3} {:>6}",
+                "{:<38} {:<17} {:>6.3} {:<8} | {:>7} {:>7} {:>6}",
                 if first { goal.what } else { "" },
                 r.name,
                 ratio,
