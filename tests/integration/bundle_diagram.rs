@@ -195,7 +195,7 @@ fn the_headings_say_what_the_walk_did() {
     );
     assert!(
         all.contains("2. One level down: no box opened")
-            && all.contains("Both boxes entered had one ray each, which went on alone"),
+            && all.contains("Both boxes entered had one ray each: each went on alone"),
         "{all}"
     );
     assert!(!all.contains("nothing to test"), "{all}");

@@ -15,8 +15,8 @@
 //! off. A leaf's primitives are tested against the rays that reached it by the caller's exact
 //! f64 routine ([`BundleLeaf`]); which primitive a ray hits, and at what t, is exactly what
 //! the single-ray walk ([`Bvh::closest`](super::bvh::Bvh::closest)) finds, as long as the
-//! caller breaks ties the same way (closest t, then lowest slot: order-free). When only a few
-//! rays are left in a subtree ([`FEW`]) the bundle stops paying, and each of them walks that
+//! caller breaks ties the same way (closest t, then lowest slot: order-free). When only one
+//! ray is left in a subtree ([`FEW`]) the bundle stops paying, and each of them walks that
 //! subtree alone with the single-ray walk; a bundle whose rays point different ways along an
 //! axis (the interval test needs one sign) walks ray by ray from the root. The walks
 //! themselves are in [`walk`].
@@ -32,15 +32,15 @@ use crate::math::Ray;
 pub const BUNDLE: usize = LANES;
 
 /// A subtree that no more than this many of the bundle's rays enter is walked by each of them
-/// alone: a lone ray walks faster by itself. Two rays still gain from walking together:
-/// at each face the part of Cramer's rule that depends only on the face and the origin
-/// ([`crate::shapes::FaceFrom`]) is computed once for both when they share their origin,
-/// and with AVX-512 the sixteen lanes of a box or face test are one instruction a step.
-/// (Timed on the terrain on an AVX-512 Xeon against two, book appendix "A calm morning on
-/// the Xeon": the bundled render at 1.03 (eight pairs, every one faster), the camera
-/// bundles at 1.02, the shadow bundles at about 1.07; capped to AVX2 on the same
-/// processor, 1.00 and 0.98. Earlier, on an AVX2 processor, one ran at 0.96 of two and
-/// three and four at 0.85 and 0.86; on the Xeon three and four could not be told from two.)
+/// alone: a lone ray walks faster by itself. Two rays still gain from walking together: with
+/// AVX-512 a box test of sixteen `f32` lanes is one instruction a step (a face test's
+/// sixteen `f64` lanes two), and two rays from one point share each face's set-up
+/// ([`crate::shapes::FaceFrom`]). (Timed on the terrain on an AVX-512 Xeon against two,
+/// book appendix "A calm morning on the Xeon": the bundled render at 1.03 (eight pairs,
+/// every one faster), the camera bundles at 1.02, the shadow bundles at about 1.07;
+/// capped to AVX2 on the same processor, 1.00 and 0.98. Earlier, on an AVX2 processor,
+/// one ran at 0.96 of two and three and four at 0.85 and 0.86; on the Xeon three and four
+/// could not be told from two.)
 pub const FEW: u32 = 1;
 
 /// What a bundle traversal did: nodes opened (once per bundle), and per ray the nodes it

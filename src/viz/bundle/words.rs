@@ -125,16 +125,21 @@ impl Unopened {
         if self.alone > 0 {
             let k = self.alone;
             parts.push(format!(
-                "{} had {few}{}, which went on alone (the single-ray walk)",
+                "{} had {few}{}: {} on alone (the single-ray walk)",
                 subject(k),
-                plural(k, "", " each")
+                plural(k, "", " each"),
+                match (FEW, k) {
+                    (1, 1) => "it went",
+                    (1, _) => "each went",
+                    _ => "those went",
+                }
             ));
         }
         if self.passed > 0 {
             let k = self.passed;
             parts.push(format!(
                 "{} {} not opened: by then {} rays had found nearer hits (or {} \
-                 left, and went on alone)",
+                 went on alone)",
                 subject(k),
                 plural(k, "was", "were"),
                 plural(k, "its", "their"),
