@@ -16,7 +16,7 @@
 //! f64 routine ([`BundleLeaf`]); which primitive a ray hits, and at what t, is exactly what
 //! the single-ray walk ([`Bvh::closest`](super::bvh::Bvh::closest)) finds, as long as the
 //! caller breaks ties the same way (closest t, then lowest slot: order-free). When only one
-//! ray is left in a subtree ([`FEW`]) the bundle stops paying, and each of them walks that
+//! ray is left in a subtree ([`FEW`]) the bundle stops paying, and that ray walks the
 //! subtree alone with the single-ray walk; a bundle whose rays point different ways along an
 //! axis (the interval test needs one sign) walks ray by ray from the root. The walks
 //! themselves are in [`walk`].

@@ -144,9 +144,9 @@ impl Unopened {
                 plural(k, "was", "were"),
                 plural(k, "its", "their"),
                 if FEW == 1 {
-                    "one was".to_string()
+                    "only one ray was left, and it".to_string()
                 } else {
-                    format!("{FEW} or fewer were")
+                    format!("{FEW} or fewer were left, and they")
                 }
             ));
         }
@@ -216,7 +216,7 @@ pub(super) fn coming_from(rays: &[Ray]) -> &'static str {
 
 #[cfg(test)]
 mod tests {
-    use super::opened_at;
+    use super::{opened_at, Unopened};
     use crate::accel::{Node, WIDTH};
 
     /// Of the root's entered children, only the inner one the bundle went on to open is an
@@ -247,5 +247,34 @@ mod tests {
         ];
         assert_eq!(opened_at(&tested, &depth, &nodes, 0), vec![(0, 0)]);
         assert_eq!(opened_at(&tested, &depth, &nodes, 1), vec![]);
+    }
+
+    /// The note names what became of each unopened box, in sentences that read: leaves,
+    /// boxes with one ray (it went on alone), boxes passed over.
+    #[test]
+    fn the_note_for_unopened_boxes_reads() {
+        let u = Unopened {
+            entered: 4,
+            leaves: 1,
+            alone: 2,
+            passed: 1,
+        };
+        assert_eq!(
+            u.note().unwrap(),
+            "1 of the boxes entered is a leaf: its triangles are tested, nothing further to \
+             open; 2 of the boxes entered had one ray each: each went on alone (the single-ray \
+             walk); 1 of the boxes entered was not opened: by then its rays had found nearer \
+             hits (or only one ray was left, and it went on alone)."
+        );
+        let one = Unopened {
+            entered: 1,
+            leaves: 0,
+            alone: 1,
+            passed: 0,
+        };
+        assert_eq!(
+            one.note().unwrap(),
+            "The box entered had one ray: it went on alone (the single-ray walk)."
+        );
     }
 }
