@@ -24,7 +24,8 @@
 //!
 //! `cargo bench --bench accel -- --only PASS MESH [REPEATS]` runs one pass alone (single,
 //! bundle, render, render-bundle, render-rays, render-walk, render-stats, render-bundle-stats, shadow or
-//! shadow-bundle), for profilers.
+//! shadow-bundle), for profilers; it prints the median of the repeats, and the lowest and
+//! highest.
 //!
 //! Everything runs on 2 threads (rtlab: a rayon pool of 2; Embree: `threads=2`).
 
@@ -161,8 +162,10 @@ fn only(args: &[String]) {
             }
         });
     }
+    let lowest = speeds.iter().copied().fold(f64::INFINITY, f64::min);
+    let highest = speeds.iter().copied().fold(0.0, f64::max);
     println!(
-        "{pass} on {name}: {:.2} Mrays/s (median of {repeats})",
+        "{pass} on {name}: {:.2} Mrays/s (median of {repeats}; lowest {lowest:.2}, highest {highest:.2})",
         median(speeds)
     );
 }
