@@ -11,7 +11,7 @@ use std::sync::Mutex;
 /// ([`crate::output::check_not_read`]), so that it never writes over one of its own inputs.
 static READ: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 
-/// The files read so far ([`READ`]).
+/// The files read so far (`READ`).
 pub fn files_read() -> Vec<PathBuf> {
     READ.lock().map(|r| r.clone()).unwrap_or_default()
 }

@@ -34,7 +34,7 @@ pub fn check() -> Result<()> {
 /// A cancellation flag a caller owns: a render, an explain or a step sequence whose settings
 /// carry it ([`crate::scene::RenderSettings::cancel`]) stops soon after [`Cancel::cancel`]
 /// (the tracer looks every [`crate::trace::CHECK_EVERY`] rays, the renderer at every pixel),
-/// and its result is then to be thrown away ([`crate::sampling::RenderOutput::cancelled`]).
+/// and its result is then to be thrown away (`RenderOutput::cancelled`).
 /// Every token also sees Ctrl-C, so the default token is the global flag alone.
 ///
 /// Cloning shares the flag (cancel a clone, and the original is cancelled). Tokens compare

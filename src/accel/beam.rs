@@ -3,7 +3,7 @@
 //! beam is the part that one segment sees (or that passes everything), and a mirror's piece
 //! spawns a reflected beam whose apex is the eye mirrored in the mirror.
 //!
-//! The renderer does not use this: it traces rays, in bundles ([`super::bundle`]), which keep
+//! The renderer does not use this: it traces rays, in bundles (`accel::bundle`), which keep
 //! an exact answer per ray on every kind of surface. This module exists for `rtlab beam` and
 //! its figure, to show the idea the bundles descend from.
 //!

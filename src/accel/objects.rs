@@ -50,8 +50,8 @@ impl Accel {
     // ANCHOR_END: closest_bundle
 
     /// [`Accel::occluded`]'s verdict for each of up to [`BUNDLE`] shadow rays, ray i within
-    /// [t_min, t_max[i]], as a bit mask (bit i: ray i is blocked): the rays walk the scene's
-    /// BVH and each mesh's BVH together ([`Bvh::any_bundle`]). `cost` gets the nodes opened.
+    /// `[t_min, t_max[i]]`, as a bit mask (bit i: ray i is blocked): the rays walk the scene's
+    /// BVH and each mesh's BVH together ([`crate::accel::bvh::Bvh::any_bundle`]). `cost` gets the nodes opened.
     pub fn occluded_bundle(
         &self,
         objects: &[Object],

@@ -1,7 +1,7 @@
 //! `rtlab explain`: the ray tree of one pixel, from the same tracer `render` runs.
 //!
 //! Output format (DESIGN §3, version 1): `{"pixel", "color", "encoded", "samples": [{"index",
-//! "film", "weight", "color", "camera", "ray"}]}` with `ray` a [`RayNode`] tree. JSON and YAML
+//! "film", "weight", "color", "camera", "ray"}]}` with `ray` a [`crate::trace::RayNode`] tree. JSON and YAML
 //! carry full f64 precision; `--format text` is the readable form.
 
 use super::RenderArgs;

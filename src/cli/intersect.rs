@@ -1,7 +1,7 @@
 //! `rtlab intersect`: one ray against one canonical shape, with all the working shown.
 //!
 //! The numbers come from the shape's own intersection routine (`src/shapes/`), the one the
-//! tracer runs, watched by a [`Working`] observer; nothing here solves anything itself.
+//! tracer runs, watched by a `Working` observer; nothing here solves anything itself.
 //! The 2D `circle` is the sphere routine in the plane z = 0.
 //!
 //! Output format (DESIGN §3, version 1), `--format json`:

@@ -9,6 +9,8 @@ use crate::shapes::{Cone, Cuboid, Cylinder, Plane, Shape, Sphere, Triangle};
 use glam::DVec3;
 use std::path::PathBuf;
 
+// The doc comments are `--help` text: `[1]` is a default, not a link.
+#[allow(rustdoc::broken_intra_doc_links)]
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// circle (2D), sphere, plane, cylinder, cone, box or triangle; csg or blob with --spec.

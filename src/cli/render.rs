@@ -14,6 +14,8 @@ use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::time::Instant;
 
+// The doc comments are `--help` text: `<scene name>` is a placeholder, not an HTML tag.
+#[allow(rustdoc::invalid_html_tags)]
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Scene file: native rtlab JSON or a CS1230 scenefile.

@@ -36,7 +36,7 @@ pub fn refused_value(e: &clap::Error) -> Option<String> {
 
 /// The line a usage error shows, without its "error: ": [`refused_value`]'s, or clap's
 /// message on one line: its first paragraph joined ("the following required arguments were
-/// not provided: <SCENE>") and its tip in brackets, without the usage and the pointer to
+/// not provided: `<SCENE>`") and its tip in brackets, without the usage and the pointer to
 /// `--help` that clap adds around them.
 pub fn usage_line(e: &clap::Error) -> String {
     refused_value(e).unwrap_or_else(|| one_line(&e.render().to_string()))

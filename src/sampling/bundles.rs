@@ -122,7 +122,7 @@ impl TilePlan {
 
 // ANCHOR: trace_bundled
 /// Traces every sample of `plan` in bundles: per block of SIDE×SIDE of the tile's traced
-/// pixels ([`Blocks`]) and per sample index, the block's camera rays are made side by side ([`camera_rays`]), walked to
+/// pixels (`Blocks`) and per sample index, the block's camera rays are made side by side ([`camera_rays`]), walked to
 /// their closest hits together ([`crate::accel::Accel::closest_bundle_into`]), and handed
 /// one by one, hit found, to
 /// `trace(l, (x, y), k, camera)` (the tile's pixel `l`, at (x, y), its sample `k`), which

@@ -15,7 +15,7 @@
 //! | `render` | `/api/render.png`: passes, AOVs, streams a newer render supersedes |
 //! | `explain` | `/api/explain`, `/api/diagram.png`: one pixel, within the server's bounds |
 //! | [`diff`] | `/api/diff`: what is wrong with an uploaded image |
-//! | [`security`] | Host-header check (DNS rebinding), methods, request sizes |
+//! | `security` | Host-header check (DNS rebinding), methods, request sizes |
 //! | [`assets`] | the embedded page |
 //! | [`watch`] | live scene: polls the scene file and tells the page |
 

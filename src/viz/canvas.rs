@@ -444,7 +444,7 @@ impl Canvas {
         }
     }
 
-    /// Encodes the figure as PNG bytes (the same bytes [`Canvas::save`] writes).
+    /// Encodes the figure as PNG bytes (the same bytes [`Canvas::write_png`] writes).
     pub fn png_bytes(&self) -> Result<Vec<u8>> {
         let mut buf = std::io::Cursor::new(Vec::new());
         self.to_rgb()

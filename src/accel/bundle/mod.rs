@@ -54,7 +54,7 @@ pub struct BundleWork {
 
 // ANCHOR: ray_bundle
 /// Up to sixteen rays prepared for the walk, lane by lane: each ray's reciprocal direction
-/// and bracketed origin in `f32` (what its own slab test uses, [`RayBox`]), and per axis the
+/// and bracketed origin in `f32` (what its own slab test uses, `RayBox`), and per axis the
 /// bundle's bounds for the interval test. Lanes past the last ray repeat it; `all` says
 /// which lanes hold rays.
 #[derive(Debug, Clone)]

@@ -178,7 +178,7 @@ impl Bvh {
 impl Bvh {
     // ANCHOR: any_bundle
     /// Shadow rays in a bundle: which of its rays (bit i of `active`: ray i takes part,
-    /// within [t_min, t_max[i]]) are blocked. The bundle walks the tree together as in
+    /// within `[t_min, t_max[i]]`) are blocked. The bundle walks the tree together as in
     /// [`Bvh::closest_bundle`], children in no particular order; `leaf` tests a primitive
     /// against some rays and returns those it blocks. A ray leaves the bundle once blocked,
     /// and the walk ends when every ray is, so each ray's verdict is what [`Bvh::any`] gives

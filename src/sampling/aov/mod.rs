@@ -4,7 +4,7 @@
 //! and keeps what the camera ray's own hit saw; `depth`, `normal` and `object-id` run it with
 //! render settings that cast camera rays only (ray casting).
 //!
-//! Adding an AOV: one variant, one row in [`Aov::ALL`], one arm in [`Aov::shown`] (and, for
+//! Adding an AOV: one variant, one row in [`Aov::ALL`], one arm in `Aov::shown` (and, for
 //! one coloured by an image-wide range, as depth and cost are, its colouring in
 //! [`render_aov`]).
 
@@ -221,7 +221,7 @@ fn depth_grey(t: f64, r: &Ranges) -> DVec3 {
 }
 
 /// Refuses, before anything is allocated, an AOV that would not fit in memory: as
-/// [`super::check_memory`], but an AOV keeps each sample (what [`Shown`] holds of it) until
+/// [`super::check_memory`], but an AOV keeps each sample (what `Shown` holds of it) until
 /// its image is made, where the render keeps each pixel's sums.
 pub fn check_memory(width: u32, height: u32, settings: &RenderSettings) -> Result<(), String> {
     super::film::check_memory_kept(

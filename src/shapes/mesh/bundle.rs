@@ -15,7 +15,7 @@ use glam::DVec3;
 impl Mesh {
     // ANCHOR: mesh_bundle
     /// Closest face hits of a bundle of object-space rays (bit i of `active`: ray i takes
-    /// part), each within [t_min, t_max[i]]: what [`Mesh::intersect`] gives each ray, found
+    /// part), each within `[t_min, t_max[i]]`: what [`Mesh::intersect`] gives each ray, found
     /// by one walk of the BVH for all of them ([`Bvh::closest_bundle`](crate::accel::Bvh::closest_bundle)) and handed to
     /// `found(i, hit)` (a ray that hits nothing is not). A face reached by several rays is
     /// prepared once and tested against each, exactly as a single ray tests it. `work` gets
@@ -63,7 +63,7 @@ impl Mesh {
     }
 
     /// Which of a bundle of object-space shadow rays (bit i of `active`) some face blocks
-    /// within [t_min, t_max[i]]: each ray's [`Mesh::occluded`] verdict, found by one walk of
+    /// within `[t_min, t_max[i]]`: each ray's [`Mesh::occluded`] verdict, found by one walk of
     /// the BVH for all of them ([`Bvh::any_bundle`](crate::accel::Bvh::any_bundle)), each face prepared once for the rays
     /// that reach it.
     pub fn occluded_bundle(

@@ -19,7 +19,7 @@ pub struct SampleResult {
     /// Rays the sample traced, of every kind.
     pub rays: u64,
     /// The ray budget (`settings.max_rays`) cut the tree: some node ends with
-    /// [`End::RayBudget`] (or the render was cancelled).
+    /// [`crate::trace::End::RayBudget`] (or the render was cancelled).
     pub cut: bool,
 }
 

@@ -85,7 +85,7 @@ const REACH: f64 = 3.0;
 
 /// The part of the plane the figure shows, as its lower-left and upper-right corners: what
 /// the beam reaches (the eye and where its pieces meet segments), with a margin, grown to
-/// take in whatever lies within [`REACH`] times that size of it: whole segments, the
+/// take in whatever lies within `REACH` times that size of it: whole segments, the
 /// reflected beams' pieces, and always the first reflections' mirrored eyes, the apexes the
 /// figure draws, and where every piece of every reflected beam meets a segment, however far,
 /// so that each segment the printed list names is drawn, with the margin too, and can be
