@@ -1,5 +1,5 @@
 //! The figure of `rtlab intersect box --bundle-to`: a bundle of rays against one box of a
-//! BVH node. Left, the rays and the box seen along the axis in which the rays fan out most
+//! BVH node. Left, the rays and the box seen along the axis from which the rays' fan looks widest
 //! (y when that is a tie), with the interval test's two bounds drawn where they fall on every
 //! ray; right, the same test along t: each axis's bounds as a bar (or, for a bundle that is
 //! not sign-coherent, which axes change sign), the three together, and each ray's own

@@ -1,5 +1,5 @@
-//! The left panel of the interval figure: which axis it looks along (the one in which the
-//! rays fan out most), and how the scene lands on its pixels.
+//! The left panel of the interval figure: which axis it looks along (the one from which the
+//! rays' fan looks widest), and how the scene lands on its pixels.
 
 use crate::accel::BundleWorking;
 use crate::math::Ray;
@@ -21,7 +21,7 @@ impl View {
     /// Seen along the axis that shows the bundle best: of the views in which every ray
     /// is a clear line (at least half its length across the view; the axis in which the
     /// unit directions are smallest always qualifies, at worst with 0.58), the one in which
-    /// the rays fan out most; y on ties (the book's view). To the right, of the other two
+    /// the rays' fan looks widest; y on ties (the book's view). To the right, of the other two
     /// axes, the one the rays move along most (on ties, the next after the view axis: z, x
     /// for y), so P + t·d reads left to right as on the t axis. The box and P fill the panel.
     pub(super) fn new(
