@@ -20,13 +20,22 @@ pub struct EmbreeRun {
     pub mask: Vec<bool>,
 }
 
-/// One run of the harness over `modes`; its peak memory counts every mode's buffers, so the
-/// memory column comes from a run of `single,shadow` alone (the modes it had before the
-/// packet modes were added).
-pub fn run_embree(bin: &Path, obj: &Path, ppm: &Path, modes: &str) -> Option<EmbreeRun> {
+/// One run of the harness over `modes`, each mode timed `passes` times (its `--runs`, each
+/// run building the BVH again) and reported as the median of those: the same number of
+/// passes rtlab's side of the round takes its median of. Its peak memory counts every
+/// mode's buffers, so the memory column comes from a run of `single,shadow` alone (the
+/// modes it had before the packet modes were added).
+pub fn run_embree(
+    bin: &Path,
+    obj: &Path,
+    ppm: &Path,
+    modes: &str,
+    passes: usize,
+) -> Option<EmbreeRun> {
     let out = Command::new(bin)
         .arg(obj)
-        .args(["--size", "1280x720", "--threads", "2", "--runs", "1"])
+        .args(["--size", "1280x720", "--threads", "2", "--runs"])
+        .arg(passes.to_string())
         .args(["--modes", modes, "--ppm"])
         .arg(ppm)
         .output()

@@ -15,7 +15,9 @@
 //! round's own ratio beside it (rtlab and Embree timed in the same round): how far the
 //! verdict stands from the machine's noise.
 //!
-//! Environment: `RTLAB_BENCH_RUNS` (rounds, default 5), `EMBREE_BENCH` (the harness binary;
+//! Environment: `RTLAB_BENCH_RUNS` (rounds, default 5), `RTLAB_BENCH_PASSES` (passes of
+//! each measurement in a round, default 3: each side's number for the round is the median
+//! of its passes, the harness's `--runs`), `EMBREE_BENCH` (the harness binary;
 //! otherwise it is built from ../shared/bench/embree with its build.sh when Embree's headers
 //! are installed, or skipped with a message), `RTLAB_TERRAIN` (the 1M-triangle terrain OBJ,
 //! default /tmp/terrain_1m.obj, generated with gen_mesh.py when missing), `RTLAB_MESHES`
@@ -74,6 +76,11 @@ fn main() {
         .and_then(|s| s.parse().ok())
         .unwrap_or(5)
         .max(1);
+    let passes: usize = std::env::var("RTLAB_BENCH_PASSES")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(3)
+        .max(1);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(THREADS)
         .build()
@@ -98,7 +105,7 @@ fn main() {
         rows.push(bench_mesh(
             &name,
             &path,
-            runs,
+            (runs, passes),
             &pool,
             embree.as_deref(),
             tmp.path(),

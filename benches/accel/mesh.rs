@@ -4,7 +4,7 @@ use crate::camera::HarnessCamera;
 use crate::embree::run_embree;
 use crate::inputs::mesh_scene;
 use crate::passes::{build_seconds, bundle_pass, camera_pass, mesh_only_seconds, peak_memory_mib};
-use crate::render::{render_mrays, render_mrays_counting, render_parts, render_view};
+use crate::render::{render_mrays_counting, render_parts, render_view};
 use crate::shadow::{shadow_bundle_pass, shadow_pass, shadow_verdicts};
 use crate::{median, H, W};
 use rtlab::shapes::Shape;
@@ -70,7 +70,7 @@ pub struct EmbreeSummary {
 pub fn bench_mesh(
     name: &str,
     obj: &Path,
-    runs: usize,
+    (runs, passes): (usize, usize),
     pool: &rayon::ThreadPool,
     embree: Option<&Path>,
     tmp: &Path,
@@ -106,7 +106,7 @@ pub fn bench_mesh(
         // Did Embree's harness run in this round (its lists then end with this round's)?
         let mut embree_ran = false;
         if let Some(bin) = embree {
-            if let Some(e) = run_embree(bin, obj, &ppm, "single,packet8,packet16,shadow") {
+            if let Some(e) = run_embree(bin, obj, &ppm, "single,packet8,packet16,shadow", passes) {
                 embree_ran = true;
                 eb.push(e.build_ms);
                 ec.push(e.single);
@@ -114,49 +114,62 @@ pub fn bench_mesh(
                 e16.push(e.packet16);
                 es.push(e.shadow);
                 em.push(
-                    run_embree(bin, obj, &ppm, "single,shadow").map_or(e.peak_mib, |s| s.peak_mib),
+                    run_embree(bin, obj, &ppm, "single,shadow", 1)
+                        .map_or(e.peak_mib, |s| s.peak_mib),
                 );
                 last_embree = Some(e);
             } else if round == 0 {
                 println!("  Embree harness failed on this mesh");
             }
         }
-        b.push(build_seconds(&scene, pool) * 1e3);
-        let pass = camera_pass(&scene, &cam, pool);
-        c.push((W * H) as f64 / pass.seconds / 1e6);
-        let (secs, rays, occ) = shadow_pass(&scene, &cam, &pass, pool);
-        s.push(rays as f64 / secs / 1e6);
-        let (secs, verdicts) = shadow_bundle_pass(&scene, &cam, &pass, pool);
+        // Each of rtlab's numbers in the round is the median of `passes` passes, as each of
+        // the harness's is the median of its `--runs`.
+        b.push(median_of(passes, || (build_seconds(&scene, pool) * 1e3, ())).0);
+        let (speed, pass) = median_of(passes, || {
+            let pass = camera_pass(&scene, &cam, pool);
+            ((W * H) as f64 / pass.seconds / 1e6, pass)
+        });
+        c.push(speed);
+        let (speed, (rays, occ)) = median_of(passes, || {
+            let (secs, rays, occ) = shadow_pass(&scene, &cam, &pass, pool);
+            (rays as f64 / secs / 1e6, (rays, occ))
+        });
+        s.push(speed);
+        let (speed, verdicts) = median_of(passes, || {
+            let (secs, verdicts) = shadow_bundle_pass(&scene, &cam, &pass, pool);
+            (rays as f64 / secs / 1e6, verdicts)
+        });
         if round == 0 {
             assert!(
                 verdicts == shadow_verdicts(&scene, &cam, &pass),
                 "{name}: the shadow bundles found other verdicts than single rays"
             );
         }
-        sb.push(rays as f64 / secs / 1e6);
-        m.push((W * H) as f64 / mesh_only_seconds(&scene, &cam, pool) / 1e6);
-        let bundled = bundle_pass(&scene, &cam, pool);
+        sb.push(speed);
+        let speed = |seconds: f64| ((W * H) as f64 / seconds / 1e6, ());
+        m.push(median_of(passes, || speed(mesh_only_seconds(&scene, &cam, pool))).0);
+        let (bundle_speed, bundled) = median_of(passes, || {
+            let (seconds, t) = bundle_pass(&scene, &cam, pool);
+            ((W * H) as f64 / seconds / 1e6, t)
+        });
         assert!(
-            bundled.1 == pass.t,
+            bundled == pass.t,
             "{name}: the bundles found other hits than single rays"
         );
-        bu.push((W * H) as f64 / bundled.0 / 1e6);
-        rs.push(render_mrays(&view, rtlab::accel::Traversal::Single, pool));
-        rb.push(render_mrays(&view, rtlab::accel::Traversal::Bundle, pool));
-        pr.push(render_parts(&view, pool, false));
-        pw.push(render_parts(&view, pool, true));
-        rc.push(render_mrays_counting(
-            &view,
-            rtlab::accel::Traversal::Single,
-            true,
-            pool,
-        ));
-        rbc.push(render_mrays_counting(
-            &view,
-            rtlab::accel::Traversal::Bundle,
-            true,
-            pool,
-        ));
+        bu.push(bundle_speed);
+        let render = |traversal, count| {
+            median_of(passes, || {
+                (render_mrays_counting(&view, traversal, count, pool), ())
+            })
+            .0
+        };
+        use rtlab::accel::Traversal::{Bundle, Single};
+        rs.push(render(Single, false));
+        rb.push(render(Bundle, false));
+        pr.push(median_of(passes, || (render_parts(&view, pool, false), ())).0);
+        pw.push(median_of(passes, || (render_parts(&view, pool, true), ())).0);
+        rc.push(render(Single, true));
+        rbc.push(render(Bundle, true));
         println!(
             "  round {}: build {:.1} ms, camera {:.2} Mrays/s (bundles {:.2}, render {:.2} / {:.2}), shadow {:.2} Mrays/s{}",
             round + 1,
@@ -230,4 +243,17 @@ pub fn bench_mesh(
         embree,
         paired,
     }
+}
+
+/// Runs `pass` `n` times: the median of the speeds (or times) it gives, and what the last
+/// pass found (for the checks against single rays and Embree).
+fn median_of<T>(n: usize, mut pass: impl FnMut() -> (f64, T)) -> (f64, T) {
+    let mut values = Vec::with_capacity(n);
+    let mut last = None;
+    for _ in 0..n.max(1) {
+        let (value, found) = pass();
+        values.push(value);
+        last = Some(found);
+    }
+    (median(values), last.expect("at least one pass"))
 }
