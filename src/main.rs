@@ -23,7 +23,9 @@ fn main() -> ExitCode {
                 DisplayHelp | DisplayVersion | DisplayHelpOnMissingArgumentOrSubcommand => e.exit(),
                 // A bad command line: one line, as every other bad input.
                 _ => {
-                    let line = rtlab::cli::usage_line(&e);
+                    let words: Vec<String> = std::env::args().skip(1).collect();
+                    let command = <rtlab::cli::Cli as clap::CommandFactory>::command();
+                    let line = rtlab::cli::usage_line_in(&e, &command, &words);
                     eprintln!("error: {}", rtlab::error::printable(&line));
                     return ExitCode::from(2);
                 }

@@ -29,7 +29,7 @@ use std::io::Write;
 use std::path::PathBuf;
 
 pub use render_args::RenderArgs;
-pub use usage::{refused_value, usage_line};
+pub use usage::{refused_value, usage_line, usage_line_in};
 
 #[derive(Debug, Parser)]
 #[command(

@@ -42,6 +42,60 @@ pub fn usage_line(e: &clap::Error) -> String {
     refused_value(e).unwrap_or_else(|| one_line(&e.render().to_string()))
 }
 
+/// [`usage_line`] for the command line `words` (the program's arguments, without its name):
+/// a word that begins with `-` right after an option that takes a value (`-o -x.png`) is
+/// read by clap as more options, and the line says how to give it as the value instead
+/// (`-o=-x.png`), unless it is a negative number, which [`usage_line`] already speaks of.
+pub fn usage_line_in(e: &clap::Error, command: &clap::Command, words: &[String]) -> String {
+    let line = usage_line(e);
+    match value_like_an_option(e, command, words) {
+        Some((option, word)) => {
+            format!("{line} (if {word} is the value of {option}, write {option}={word})")
+        }
+        None => line,
+    }
+}
+
+/// The option and the word of [`usage_line_in`]'s case, if the error is one.
+fn value_like_an_option<'w>(
+    e: &clap::Error,
+    command: &clap::Command,
+    words: &'w [String],
+) -> Option<(&'w str, &'w str)> {
+    use clap::error::{ContextKind, ContextValue, ErrorKind};
+    if e.kind() != ErrorKind::UnknownArgument {
+        return None;
+    }
+    let Some(ContextValue::String(unknown)) = e.get(ContextKind::InvalidArg) else {
+        return None;
+    };
+    // The subcommand the words name (its options are the ones that can take the value).
+    let sub = words
+        .iter()
+        .find_map(|w| command.find_subcommand(w))
+        .unwrap_or(command);
+    let takes_value = |option: &str| {
+        sub.get_arguments().any(|a| {
+            let named = match option.strip_prefix("--") {
+                Some(long) => a.get_long() == Some(long),
+                None => {
+                    let mut short = option.strip_prefix('-').unwrap_or("").chars();
+                    matches!((short.next(), short.next()), (Some(c), None) if a.get_short() == Some(c))
+                }
+            };
+            named && a.get_action().takes_values()
+        })
+    };
+    words.windows(2).find_map(|pair| {
+        let (option, word) = (pair[0].as_str(), pair[1].as_str());
+        let meant = word.starts_with('-')
+            && word.starts_with(unknown.as_str())
+            && word.parse::<f64>().is_err()
+            && takes_value(option);
+        meant.then_some((option, word))
+    })
+}
+
 /// clap's rendered error on one line ([`usage_line`]).
 fn one_line(text: &str) -> String {
     let text = text.trim_start_matches("error: ");
@@ -83,7 +137,36 @@ fn negative_number(tip: &str) -> bool {
 
 #[cfg(test)]
 mod tests {
-    use super::one_line;
+    use super::{one_line, usage_line_in};
+
+    /// A word that starts with '-' after an option taking a value gets the `=` advice; after
+    /// a flag, or as a negative number, it does not.
+    #[test]
+    fn a_value_that_looks_like_an_option() {
+        use clap::{Arg, ArgAction, Command};
+        let command = Command::new("t").subcommand(
+            Command::new("render")
+                .arg(Arg::new("scene"))
+                .arg(Arg::new("output").short('o').long("output"))
+                .arg(Arg::new("quiet").long("quiet").action(ArgAction::SetTrue))
+                .arg(Arg::new("spp").long("spp")),
+        );
+        let line = |words: &[&str]| {
+            let words: Vec<String> = words.iter().map(|w| w.to_string()).collect();
+            let all = std::iter::once("t".to_string()).chain(words.iter().cloned());
+            let e = command.clone().try_get_matches_from(all).unwrap_err();
+            usage_line_in(&e, &command, &words)
+        };
+        assert!(line(&["render", "s.json", "-o", "-x.png"])
+            .ends_with("(if -x.png is the value of -o, write -o=-x.png)"));
+        assert!(line(&["render", "s.json", "--output", "-x.png"])
+            .ends_with("(if -x.png is the value of --output, write --output=-x.png)"));
+        assert_eq!(
+            line(&["render", "s.json", "--quiet", "-x.png"]),
+            "unexpected argument '-x' found"
+        );
+        assert!(!line(&["render", "s.json", "--spp", "-4"]).contains("write"));
+    }
 
     #[test]
     fn clap_errors_on_one_line() {

@@ -489,6 +489,12 @@ fn cases() -> Vec<Case> {
             vec!["argument -o", ".png is only an extension", "e.g. out.png"],
         ),
         c(
+            "output name that begins with -",
+            s(obj(SPHERE)),
+            vec!["render", "scene.json", "-o", "-x.png", "--quiet"],
+            vec!["unexpected argument '-x'", "if -x.png is the value of -o, write -o=-x.png"],
+        ),
+        c(
             "output folder under a file",
             vec![("scene.json", obj(SPHERE)), ("notes.txt", b"x".to_vec())],
             vec!["steps", "scene.json", "-o", "notes.txt/steps", "--quiet"],
