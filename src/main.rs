@@ -23,7 +23,10 @@ fn main() -> ExitCode {
                 DisplayHelp | DisplayVersion | DisplayHelpOnMissingArgumentOrSubcommand => e.exit(),
                 // A bad command line: one line, as every other bad input.
                 _ => {
-                    let words: Vec<String> = std::env::args().skip(1).collect();
+                    let words: Vec<String> = std::env::args_os()
+                        .skip(1)
+                        .map(|a| a.to_string_lossy().into_owned())
+                        .collect();
                     let command = <rtlab::cli::Cli as clap::CommandFactory>::command();
                     let line = rtlab::cli::usage_line_in(&e, &command, &words);
                     eprintln!("error: {}", rtlab::error::printable(&line));

@@ -111,6 +111,9 @@ fn main() {
             tmp.path(),
         ));
     }
+    println!(
+        "\n{runs} rounds (RTLAB_BENCH_RUNS), each side's number in a round the median of {passes} passes (RTLAB_BENCH_PASSES; Embree's --runs)"
+    );
     print_mesh_table(&rows);
     print_goals(&rows);
     if filters.is_empty() || filters.iter().any(|f| "whitted".contains(f.as_str())) {

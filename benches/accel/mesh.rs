@@ -102,6 +102,7 @@ pub fn bench_mesh(
     let mut last_embree = None;
     let mut last = None;
     let mut paired = Vec::new();
+    let mut single_verdicts = None;
     for round in 0..runs {
         // Did Embree's harness run in this round (its lists then end with this round's)?
         let mut embree_ran = false;
@@ -122,54 +123,56 @@ pub fn bench_mesh(
                 println!("  Embree harness failed on this mesh");
             }
         }
-        // Each of rtlab's numbers in the round is the median of `passes` passes, as each of
-        // the harness's is the median of its `--runs`.
-        b.push(median_of(passes, || (build_seconds(&scene, pool) * 1e3, ())).0);
-        let (speed, pass) = median_of(passes, || {
+        // Each of rtlab's numbers in the round is the median of `passes` passes, taken as the
+        // harness takes its `--runs`: every measurement once, then all of them again.
+        let mut p: [Vec<f64>; 12] = Default::default();
+        let mut found = None;
+        for _ in 0..passes {
+            let speed = |seconds: f64| (W * H) as f64 / seconds / 1e6;
+            p[0].push(build_seconds(&scene, pool) * 1e3);
             let pass = camera_pass(&scene, &cam, pool);
-            ((W * H) as f64 / pass.seconds / 1e6, pass)
-        });
-        c.push(speed);
-        let (speed, (rays, occ)) = median_of(passes, || {
+            p[1].push(speed(pass.seconds));
             let (secs, rays, occ) = shadow_pass(&scene, &cam, &pass, pool);
-            (rays as f64 / secs / 1e6, (rays, occ))
-        });
-        s.push(speed);
-        let (speed, verdicts) = median_of(passes, || {
+            p[2].push(rays as f64 / secs / 1e6);
             let (secs, verdicts) = shadow_bundle_pass(&scene, &cam, &pass, pool);
-            (rays as f64 / secs / 1e6, verdicts)
-        });
-        if round == 0 {
+            p[3].push(rays as f64 / secs / 1e6);
+            // The single rays' verdicts, found once (the first round), checked every pass.
+            let single =
+                single_verdicts.get_or_insert_with(|| shadow_verdicts(&scene, &cam, &pass));
             assert!(
-                verdicts == shadow_verdicts(&scene, &cam, &pass),
+                &verdicts == single,
                 "{name}: the shadow bundles found other verdicts than single rays"
             );
+            p[4].push(speed(mesh_only_seconds(&scene, &cam, pool)));
+            let (seconds, bundled) = bundle_pass(&scene, &cam, pool);
+            assert!(
+                bundled == pass.t,
+                "{name}: the bundles found other hits than single rays"
+            );
+            p[5].push(speed(seconds));
+            use rtlab::accel::Traversal::{Bundle, Single};
+            p[6].push(render_mrays_counting(&view, Single, false, pool));
+            p[7].push(render_mrays_counting(&view, Bundle, false, pool));
+            p[8].push(render_parts(&view, pool, false));
+            p[9].push(render_parts(&view, pool, true));
+            p[10].push(render_mrays_counting(&view, Single, true, pool));
+            p[11].push(render_mrays_counting(&view, Bundle, true, pool));
+            found = Some((pass, rays, occ));
         }
-        sb.push(speed);
-        let speed = |seconds: f64| ((W * H) as f64 / seconds / 1e6, ());
-        m.push(median_of(passes, || speed(mesh_only_seconds(&scene, &cam, pool))).0);
-        let (bundle_speed, bundled) = median_of(passes, || {
-            let (seconds, t) = bundle_pass(&scene, &cam, pool);
-            ((W * H) as f64 / seconds / 1e6, t)
-        });
-        assert!(
-            bundled == pass.t,
-            "{name}: the bundles found other hits than single rays"
-        );
-        bu.push(bundle_speed);
-        let render = |traversal, count| {
-            median_of(passes, || {
-                (render_mrays_counting(&view, traversal, count, pool), ())
-            })
-            .0
-        };
-        use rtlab::accel::Traversal::{Bundle, Single};
-        rs.push(render(Single, false));
-        rb.push(render(Bundle, false));
-        pr.push(median_of(passes, || (render_parts(&view, pool, false), ())).0);
-        pw.push(median_of(passes, || (render_parts(&view, pool, true), ())).0);
-        rc.push(render(Single, true));
-        rbc.push(render(Bundle, true));
+        let [build, camera, shadow, shadow_bundle, mesh_only, bundle, render, render_bundle, made, walked, render_stats, render_bundle_stats] =
+            p.map(median);
+        b.push(build);
+        c.push(camera);
+        s.push(shadow);
+        sb.push(shadow_bundle);
+        m.push(mesh_only);
+        bu.push(bundle);
+        rs.push(render);
+        rb.push(render_bundle);
+        pr.push(made);
+        pw.push(walked);
+        rc.push(render_stats);
+        rbc.push(render_bundle_stats);
         println!(
             "  round {}: build {:.1} ms, camera {:.2} Mrays/s (bundles {:.2}, render {:.2} / {:.2}), shadow {:.2} Mrays/s{}",
             round + 1,
@@ -196,7 +199,7 @@ pub fn bench_mesh(
                 render_x1: rb[round] / e1,
             });
         }
-        last = Some((pass, rays, occ));
+        last = found;
     }
     let (pass, rays, occ) = last.expect("at least one round");
     let embree = last_embree.map(|e| {
@@ -243,17 +246,4 @@ pub fn bench_mesh(
         embree,
         paired,
     }
-}
-
-/// Runs `pass` `n` times: the median of the speeds (or times) it gives, and what the last
-/// pass found (for the checks against single rays and Embree).
-fn median_of<T>(n: usize, mut pass: impl FnMut() -> (f64, T)) -> (f64, T) {
-    let mut values = Vec::with_capacity(n);
-    let mut last = None;
-    for _ in 0..n.max(1) {
-        let (value, found) = pass();
-        values.push(value);
-        last = Some(found);
-    }
-    (median(values), last.expect("at least one pass"))
 }

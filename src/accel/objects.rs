@@ -219,7 +219,7 @@ fn occluded_object_bundle(
     blocked
 }
 
-/// Tests object `i` against the rays of a bundle in `mask` (each within [t_min, t_max[r]]),
+/// Tests object `i` against the rays of a bundle in `mask` (each within `[t_min, t_max[r]]`),
 /// keeping each ray's best by [`precedes`]. A mesh takes the rays through its own BVH
 /// together; any other shape tests them one by one with its own routine.
 #[allow(clippy::too_many_arguments)]

@@ -69,11 +69,12 @@ fn value_like_an_option<'w>(
     let Some(ContextValue::String(unknown)) = e.get(ContextKind::InvalidArg) else {
         return None;
     };
-    // The subcommand the words name (its options are the ones that can take the value).
+    // The subcommand (the first word) names the options that can take the value.
     let sub = words
-        .iter()
-        .find_map(|w| command.find_subcommand(w))
+        .first()
+        .and_then(|w| command.find_subcommand(w))
         .unwrap_or(command);
+    // An option that takes values starting with '-' (`--origin -1,0,0`) already took it.
     let takes_value = |option: &str| {
         sub.get_arguments().any(|a| {
             let named = match option.strip_prefix("--") {
@@ -83,10 +84,12 @@ fn value_like_an_option<'w>(
                     matches!((short.next(), short.next()), (Some(c), None) if a.get_short() == Some(c))
                 }
             };
-            named && a.get_action().takes_values()
+            named && a.get_action().takes_values() && !a.is_allow_hyphen_values_set()
         })
     };
-    words.windows(2).find_map(|pair| {
+    // After `--` every word is a value, and clap says nothing of them as options.
+    let end = words.iter().position(|w| w == "--").unwrap_or(words.len());
+    words[..end].windows(2).find_map(|pair| {
         let (option, word) = (pair[0].as_str(), pair[1].as_str());
         let meant = word.starts_with('-')
             && word.starts_with(unknown.as_str())
@@ -166,6 +169,22 @@ mod tests {
             "unexpected argument '-x' found"
         );
         assert!(!line(&["render", "s.json", "--spp", "-4"]).contains("write"));
+        // A value clap took already (an option that allows a leading '-') gets no advice,
+        // nor do words after `--`.
+        let command = command.clone().subcommand(
+            Command::new("intersect")
+                .arg(Arg::new("shape"))
+                .arg(Arg::new("dir").long("dir").allow_hyphen_values(true)),
+        );
+        let words = ["intersect", "sphere", "--dir", "-1,", "-1,", "0"].map(String::from);
+        let all = std::iter::once("t".to_string()).chain(words.iter().cloned());
+        let e = command.clone().try_get_matches_from(all).unwrap_err();
+        assert!(!usage_line_in(&e, &command, &words).contains("write"));
+        let words = ["render", "--", "s.json", "-o", "-x.png"].map(String::from);
+        let all = std::iter::once("t".to_string()).chain(words.iter().cloned());
+        if let Err(e) = command.clone().try_get_matches_from(all) {
+            assert!(!usage_line_in(&e, &command, &words).contains("write"));
+        }
     }
 
     #[test]

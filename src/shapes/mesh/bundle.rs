@@ -100,7 +100,7 @@ struct Faces<'a, 'r, W> {
 
 impl<W: Wide> Faces<'_, '_, W> {
     /// Calls `hit(i, weights, t_max)` for each ray i in `rays` that hits face slot `k`
-    /// within [t_min, t_max[i]]: exactly what [`cramer_hit_prepared`] says for that ray.
+    /// within `[t_min, t_max[i]]`: exactly what [`cramer_hit_prepared`] says for that ray.
     /// (`PLANE_FIRST`: rays from different points test each face's plane first,
     /// [`cramer_hit_plane_first`], as shadow rays do; the same answers.)
     #[inline(always)]
@@ -155,7 +155,7 @@ impl<W: Wide> Faces<'_, '_, W> {
     }
 
     /// Calls `hit(k, weights, t_max)` for each face slot `k` of `ks`, in order, that ray `i`
-    /// hits within [t_min, t_max[i]]: what [`Faces::hits`] says of each of them for that ray
+    /// hits within `[t_min, t_max[i]]`: what [`Faces::hits`] says of each of them for that ray
     /// alone. A leaf's faces are taken [`SIDE_BY_SIDE`] at a time: the part of Cramer's rule
     /// that does not depend on t_max ([`FaceFrom`] and the [`Numerators`]) is computed for
     /// them together, lane by lane with the same operations as glam's `cross` and `dot` (so
