@@ -67,6 +67,50 @@ pub struct EmbreeSummary {
     pub pixels_differ: usize,
 }
 
+/// rtlab's numbers of one pass, or their medians over a round's passes, or over the rounds.
+#[derive(Clone, Copy)]
+struct Round {
+    /// Milliseconds to build the mesh's BVH.
+    build: f64,
+    /// Mrays/s: camera rays through the scene, single and in bundles, and straight into the
+    /// mesh's BVH; shadow rays, single and in bundles.
+    camera: f64,
+    bundle: f64,
+    mesh_only: f64,
+    shadow: f64,
+    shadow_bundle: f64,
+    /// Mrays/s of `rtlab render`'s trace time: single rays and bundles, without and with
+    /// counting as `--stats` does.
+    render: f64,
+    render_bundle: f64,
+    render_stats: f64,
+    render_bundle_stats: f64,
+    /// Seconds of the bundled render's own camera rays: made; made and walked.
+    made: f64,
+    walked: f64,
+}
+
+impl Round {
+    /// Each number's median over `all`, number by number.
+    fn median(all: &[Round]) -> Round {
+        let m = |f: fn(&Round) -> f64| median(all.iter().map(f).collect());
+        Round {
+            build: m(|r| r.build),
+            camera: m(|r| r.camera),
+            bundle: m(|r| r.bundle),
+            mesh_only: m(|r| r.mesh_only),
+            shadow: m(|r| r.shadow),
+            shadow_bundle: m(|r| r.shadow_bundle),
+            render: m(|r| r.render),
+            render_bundle: m(|r| r.render_bundle),
+            render_stats: m(|r| r.render_stats),
+            render_bundle_stats: m(|r| r.render_bundle_stats),
+            made: m(|r| r.made),
+            walked: m(|r| r.walked),
+        }
+    }
+}
+
 pub fn bench_mesh(
     name: &str,
     obj: &Path,
@@ -94,10 +138,9 @@ pub fn bench_mesh(
         / triangles as f64;
     let cam = HarnessCamera::new(&scene);
     let ppm = tmp.join(format!("{name}.ppm"));
-    let (mut b, mut c, mut m, mut s) = (vec![], vec![], vec![], vec![]);
     let (mut eb, mut ec, mut es, mut em) = (vec![], vec![], vec![], vec![]);
-    let (mut e8, mut e16, mut bu, mut rs, mut rb) = (vec![], vec![], vec![], vec![], vec![]);
-    let (mut rc, mut rbc, mut sb, mut pr, mut pw) = (vec![], vec![], vec![], vec![], vec![]);
+    let (mut e8, mut e16) = (vec![], vec![]);
+    let mut rounds: Vec<Round> = Vec::with_capacity(runs);
     let view = render_view(obj, &cam, tmp);
     let mut last_embree = None;
     let mut last = None;
@@ -125,17 +168,17 @@ pub fn bench_mesh(
         }
         // Each of rtlab's numbers in the round is the median of `passes` passes, taken as the
         // harness takes its `--runs`: every measurement once, then all of them again.
-        let mut p: [Vec<f64>; 12] = Default::default();
+        let mut taken: Vec<Round> = Vec::with_capacity(passes);
         let mut found = None;
         for _ in 0..passes {
             let speed = |seconds: f64| (W * H) as f64 / seconds / 1e6;
-            p[0].push(build_seconds(&scene, pool) * 1e3);
+            let build = build_seconds(&scene, pool) * 1e3;
             let pass = camera_pass(&scene, &cam, pool);
-            p[1].push(speed(pass.seconds));
+            let camera = speed(pass.seconds);
             let (secs, rays, occ) = shadow_pass(&scene, &cam, &pass, pool);
-            p[2].push(rays as f64 / secs / 1e6);
+            let shadow = rays as f64 / secs / 1e6;
             let (secs, verdicts) = shadow_bundle_pass(&scene, &cam, &pass, pool);
-            p[3].push(rays as f64 / secs / 1e6);
+            let shadow_bundle = rays as f64 / secs / 1e6;
             // The single rays' verdicts, found once (the first round), checked every pass.
             let single =
                 single_verdicts.get_or_insert_with(|| shadow_verdicts(&scene, &cam, &pass));
@@ -143,45 +186,39 @@ pub fn bench_mesh(
                 &verdicts == single,
                 "{name}: the shadow bundles found other verdicts than single rays"
             );
-            p[4].push(speed(mesh_only_seconds(&scene, &cam, pool)));
+            let mesh_only = speed(mesh_only_seconds(&scene, &cam, pool));
             let (seconds, bundled) = bundle_pass(&scene, &cam, pool);
             assert!(
                 bundled == pass.t,
                 "{name}: the bundles found other hits than single rays"
             );
-            p[5].push(speed(seconds));
             use rtlab::accel::Traversal::{Bundle, Single};
-            p[6].push(render_mrays_counting(&view, Single, false, pool));
-            p[7].push(render_mrays_counting(&view, Bundle, false, pool));
-            p[8].push(render_parts(&view, pool, false));
-            p[9].push(render_parts(&view, pool, true));
-            p[10].push(render_mrays_counting(&view, Single, true, pool));
-            p[11].push(render_mrays_counting(&view, Bundle, true, pool));
+            taken.push(Round {
+                build,
+                camera,
+                shadow,
+                shadow_bundle,
+                mesh_only,
+                bundle: speed(seconds),
+                render: render_mrays_counting(&view, Single, false, pool),
+                render_bundle: render_mrays_counting(&view, Bundle, false, pool),
+                made: render_parts(&view, pool, false),
+                walked: render_parts(&view, pool, true),
+                render_stats: render_mrays_counting(&view, Single, true, pool),
+                render_bundle_stats: render_mrays_counting(&view, Bundle, true, pool),
+            });
             found = Some((pass, rays, occ));
         }
-        let [build, camera, shadow, shadow_bundle, mesh_only, bundle, render, render_bundle, made, walked, render_stats, render_bundle_stats] =
-            p.map(median);
-        b.push(build);
-        c.push(camera);
-        s.push(shadow);
-        sb.push(shadow_bundle);
-        m.push(mesh_only);
-        bu.push(bundle);
-        rs.push(render);
-        rb.push(render_bundle);
-        pr.push(made);
-        pw.push(walked);
-        rc.push(render_stats);
-        rbc.push(render_bundle_stats);
+        let r = Round::median(&taken);
         println!(
             "  round {}: build {:.1} ms, camera {:.2} Mrays/s (bundles {:.2}, render {:.2} / {:.2}), shadow {:.2} Mrays/s{}",
             round + 1,
-            b[round],
-            c[round],
-            bu[round],
-            rs[round],
-            rb[round],
-            s[round],
+            r.build,
+            r.camera,
+            r.bundle,
+            r.render,
+            r.render_bundle,
+            r.shadow,
             match (eb.last(), ec.last(), es.last()) {
                 (Some(bm), Some(x), Some(y)) if embree_ran => format!(
                     "  | Embree build {bm:.1} ms, camera {x:.2}, shadow {y:.2}"
@@ -193,12 +230,13 @@ pub fn bench_mesh(
             (embree_ran, ec.last(), e16.last(), es.last())
         {
             paired.push(Paired {
-                bundle_x1: bu[round] / e1,
-                bundle_x16: bu[round] / e16,
-                shadow_x1: sb[round] / eo,
-                render_x1: rb[round] / e1,
+                bundle_x1: r.bundle / e1,
+                bundle_x16: r.bundle / e16,
+                shadow_x1: r.shadow_bundle / eo,
+                render_x1: r.render_bundle / e1,
             });
         }
+        rounds.push(r);
         last = found;
     }
     let (pass, rays, occ) = last.expect("at least one round");
@@ -222,22 +260,23 @@ pub fn bench_mesh(
             pixels_differ,
         }
     });
+    let m = Round::median(&rounds);
     MeshRow {
         name: name.to_string(),
         triangles,
         load_s,
         explain_ms,
-        build_ms: median(b),
-        camera: median(c),
-        bundle: median(bu),
-        render: median(rs),
-        render_bundle: median(rb),
-        render_stats: median(rc),
-        render_bundle_stats: median(rbc),
-        parts: (median(pr), median(pw)),
-        mesh_only: median(m),
-        shadow: median(s),
-        shadow_bundle: median(sb),
+        build_ms: m.build,
+        camera: m.camera,
+        bundle: m.bundle,
+        render: m.render,
+        render_bundle: m.render_bundle,
+        render_stats: m.render_stats,
+        render_bundle_stats: m.render_bundle_stats,
+        parts: (m.made, m.walked),
+        mesh_only: m.mesh_only,
+        shadow: m.shadow,
+        shadow_bundle: m.shadow_bundle,
         peak_mib: peak_memory_mib(obj),
         bytes_per_tri,
         hits: pass.hits,
