@@ -93,21 +93,25 @@ struct Round {
 impl Round {
     /// Each number's median over `all`, number by number.
     fn median(all: &[Round]) -> Round {
-        let m = |f: fn(&Round) -> f64| median(all.iter().map(f).collect());
-        Round {
-            build: m(|r| r.build),
-            camera: m(|r| r.camera),
-            bundle: m(|r| r.bundle),
-            mesh_only: m(|r| r.mesh_only),
-            shadow: m(|r| r.shadow),
-            shadow_bundle: m(|r| r.shadow_bundle),
-            render: m(|r| r.render),
-            render_bundle: m(|r| r.render_bundle),
-            render_stats: m(|r| r.render_stats),
-            render_bundle_stats: m(|r| r.render_bundle_stats),
-            made: m(|r| r.made),
-            walked: m(|r| r.walked),
+        macro_rules! medians {
+            ($($field:ident),*) => {
+                Round { $($field: median(all.iter().map(|r| r.$field).collect())),* }
+            };
         }
+        medians!(
+            build,
+            camera,
+            bundle,
+            mesh_only,
+            shadow,
+            shadow_bundle,
+            render,
+            render_bundle,
+            render_stats,
+            render_bundle_stats,
+            made,
+            walked
+        )
     }
 }
 
