@@ -33,6 +33,59 @@ fn every_scene_same_image_single_or_bundle() {
     }
 }
 
+/// Beyond `scenes/`: the course's own scene files (CS 1230's JSON, as the course gives them
+/// and as rtlab's tests keep them), its `.ini` templates (the course stages' settings, through
+/// the CLI, which reads them), and the mistakes gallery: the same PNG bytes both ways.
+#[test]
+fn course_files_and_the_gallery_same_image_single_or_bundle() {
+    let mut files: Vec<String> = Vec::new();
+    for dir in ["tests/cs1230/scenes", "scenes/mistakes"] {
+        let mut v: Vec<_> = std::fs::read_dir(path(dir))
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|e| e == "json"))
+            .map(|p| p.to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        files.extend(v);
+    }
+    for rel in [
+        "tests/cs1230/course/scenefiles/intersect/optional/recursive_sphere_9.json",
+        "tests/cs1230/course/template_inis/intersect/lights.ini",
+        "tests/cs1230/course/template_inis/illuminate/textures.ini",
+    ] {
+        files.push(path(rel).to_string_lossy().into_owned());
+    }
+    assert!(
+        files.len() >= 10,
+        "the course files and the gallery are there: {files:?}"
+    );
+    for (i, f) in files.iter().enumerate() {
+        let out = |t: &str| tmp(&format!("course-{i}-{t}.png"));
+        for t in ["single", "bundle"] {
+            let o = out(t);
+            let r = rtlab(&[
+                "render",
+                f,
+                "-o",
+                o.to_str().unwrap(),
+                "--traversal",
+                t,
+                "-q",
+            ]);
+            assert!(r.status.success(), "{f} --traversal {t}: {}", stderr(&r));
+        }
+        let (a, b) = (
+            std::fs::read(out("single")).unwrap(),
+            std::fs::read(out("bundle")).unwrap(),
+        );
+        assert!(
+            a == b,
+            "{f}: the bundled render's PNG differs from the single-ray one"
+        );
+    }
+}
+
 #[test]
 fn every_sampler_same_image_single_or_bundle() {
     for file in [
