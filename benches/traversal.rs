@@ -2,8 +2,8 @@
 //!
 //! Renders every scene in `scenes/` (their own settings and size) through
 //! `rtlab::sampling::render`, as `rtlab render` does, with `--traversal single` and with
-//! `--traversal bundle`, alternately, on 2 threads: each scene's trace time is the median
-//! of its renders. The two images must be equal, pixel for pixel (the tests check the
+//! `--traversal bundle`, alternately (each first in every other run), on 2 threads: each
+//! scene's trace time is the median of its renders; two medians within 2 % are a tie. The two images must be equal, pixel for pixel (the tests check the
 //! PNGs; here the colours before they are written). `cargo bench --bench traversal`;
 //! `RTLAB_BENCH_RUNS` sets the renders each way (default 7).
 
@@ -11,10 +11,19 @@ use rtlab::accel::Traversal;
 use rtlab::scene::Scene;
 use std::path::Path;
 
+/// The median (of an even count, the mean of the middle two).
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
+    let n = v.len();
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
 }
+
+/// Two trace times closer than this (as a ratio) are counted as a tie.
+const TIE: f64 = 0.02;
 
 fn main() {
     let runs: usize = std::env::var("RTLAB_BENCH_RUNS")
@@ -40,18 +49,23 @@ fn main() {
         "{:<22} {:>10} {:>10} {:>15}",
         "scene", "single ms", "bundle ms", "single / bundle"
     );
-    let mut faster = 0;
+    let (mut faster, mut slower) = (0, 0);
     for file in &files {
         let scene = Scene::load(file).expect("the scenes in scenes/ load");
         let name = file.file_stem().unwrap().to_string_lossy();
         let mut settings = scene.render.clone();
         let (mut single, mut bundle) = (Vec::new(), Vec::new());
         let mut images = (None, None);
-        for _ in 0..runs {
-            for (traversal, times, image) in [
+        for run in 0..runs {
+            let mut order = [
                 (Traversal::Single, &mut single, &mut images.0),
                 (Traversal::Bundle, &mut bundle, &mut images.1),
-            ] {
+            ];
+            // Each goes first in every other run, so neither always finds the caches cold.
+            if run % 2 == 1 {
+                order.reverse();
+            }
+            for (traversal, times, image) in order {
                 settings.traversal = traversal;
                 let out = pool.install(|| rtlab::sampling::render(&scene, &settings, false, None));
                 times.push(out.trace_seconds);
@@ -63,7 +77,11 @@ fn main() {
             "{name}: the bundled render is not the single-ray render"
         );
         let (s, b) = (median(single), median(bundle));
-        faster += (b < s) as usize;
+        if s / b > 1.0 + TIE {
+            faster += 1;
+        } else if b / s > 1.0 + TIE {
+            slower += 1;
+        }
         println!(
             "{name:<22} {:>10.2} {:>10.2} {:>15.2}",
             s * 1e3,
@@ -72,7 +90,8 @@ fn main() {
         );
     }
     println!(
-        "bundles faster on {faster} of {} scenes (single / bundle above 1); every image the same both ways",
-        files.len()
+        "of {} scenes, bundles faster on {faster}, slower on {slower}, within {:.0} % on the rest; every image the same both ways",
+        files.len(),
+        TIE * 100.0
     );
 }

@@ -72,21 +72,27 @@ pub struct EmbreeSummary {
 struct Round {
     /// Milliseconds to build the mesh's BVH.
     build: f64,
-    /// Mrays/s: camera rays through the scene, single and in bundles, and straight into the
-    /// mesh's BVH; shadow rays, single and in bundles.
+    /// Mrays/s of camera rays through the scene, one at a time.
     camera: f64,
+    /// Mrays/s of the same camera rays in 4×4 bundles.
     bundle: f64,
+    /// Mrays/s of the same camera rays straight into the mesh's BVH.
     mesh_only: f64,
+    /// Mrays/s of shadow rays from the camera hits, one at a time.
     shadow: f64,
+    /// Mrays/s of the same shadow rays in 4×4 bundles.
     shadow_bundle: f64,
-    /// Mrays/s of `rtlab render`'s trace time: single rays and bundles, without and with
-    /// counting as `--stats` does.
+    /// Mrays/s of `rtlab render`'s trace time, single rays.
     render: f64,
+    /// Mrays/s of `rtlab render`'s trace time, bundles.
     render_bundle: f64,
+    /// `render`, counting as `--stats` does.
     render_stats: f64,
+    /// `render_bundle`, counting as `--stats` does.
     render_bundle_stats: f64,
-    /// Seconds of the bundled render's own camera rays: made; made and walked.
+    /// Seconds to make the bundled render's camera rays.
     made: f64,
+    /// Seconds to make them and walk them to their hits.
     walked: f64,
 }
 

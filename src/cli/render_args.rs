@@ -45,7 +45,7 @@ pub struct RenderArgs {
     #[arg(long, value_name = "linear|bvh")]
     pub accel: Option<String>,
     /// How camera rays walk the BVH: bundle (4×4 neighbouring rays together; the default,
-    /// the faster on every scene measured) or single (one at a time). The same image either way.
+    /// never the slower on any scene measured) or single (one at a time). The same image either way.
     #[arg(long, value_name = "single|bundle")]
     pub traversal: Option<String>,
     /// Turn off shadow rays.

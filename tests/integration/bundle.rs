@@ -79,6 +79,9 @@ fn course_files_and_the_gallery_same_image_single_or_bundle() {
             std::fs::read(out("single")).unwrap(),
             std::fs::read(out("bundle")).unwrap(),
         );
+        for t in ["single", "bundle"] {
+            std::fs::remove_file(out(t)).ok();
+        }
         assert!(
             a == b,
             "{f}: the bundled render's PNG differs from the single-ray one"
