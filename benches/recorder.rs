@@ -22,10 +22,9 @@ fn trace_all<R: Recorder + Default>(scene: &Scene) -> (f64, f64) {
     (start.elapsed().as_secs_f64(), sum)
 }
 
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
-}
+#[path = "shared/median.rs"]
+mod shared_median;
+use shared_median::median;
 
 fn main() {
     assert_eq!(

@@ -11,16 +11,9 @@ use rtlab::accel::Traversal;
 use rtlab::scene::Scene;
 use std::path::Path;
 
-/// The median (of an even count, the mean of the middle two).
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
-    }
-}
+#[path = "shared/median.rs"]
+mod shared_median;
+use shared_median::median;
 
 /// Two trace times closer than this (as a ratio) are counted as a tie.
 const TIE: f64 = 0.02;

@@ -180,12 +180,6 @@ fn only(args: &[String]) {
     );
 }
 
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
-    }
-}
+#[path = "../shared/median.rs"]
+mod shared_median;
+use shared_median::median;
