@@ -38,17 +38,11 @@ fn every_scene_same_image_single_or_bundle() {
 /// the CLI, which reads them), and the mistakes gallery: the same PNG bytes both ways.
 #[test]
 fn course_files_and_the_gallery_same_image_single_or_bundle() {
-    let mut files: Vec<String> = Vec::new();
-    for dir in ["tests/cs1230/scenes", "scenes/mistakes"] {
-        let mut v: Vec<_> = std::fs::read_dir(path(dir))
-            .unwrap()
-            .map(|e| e.unwrap().path())
-            .filter(|p| p.extension().is_some_and(|e| e == "json"))
-            .map(|p| p.to_string_lossy().into_owned())
-            .collect();
-        v.sort();
-        files.extend(v);
-    }
+    let mut files: Vec<String> = ["tests/cs1230/scenes", "scenes/mistakes"]
+        .into_iter()
+        .flat_map(json_files)
+        .map(|p| p.to_string_lossy().into_owned())
+        .collect();
     for rel in [
         "tests/cs1230/course/scenefiles/intersect/optional/recursive_sphere_9.json",
         "tests/cs1230/course/template_inis/intersect/lights.ini",

@@ -54,7 +54,12 @@ pub fn scene(rel: &str) -> rtlab::scene::Scene {
 
 /// Every scene file in `scenes/`.
 pub fn all_scenes() -> Vec<PathBuf> {
-    let mut v: Vec<PathBuf> = std::fs::read_dir(path("scenes"))
+    json_files("scenes")
+}
+
+/// The `.json` files directly in the folder `rel` (relative to the crate), sorted.
+pub fn json_files(rel: &str) -> Vec<PathBuf> {
+    let mut v: Vec<PathBuf> = std::fs::read_dir(path(rel))
         .unwrap()
         .map(|e| e.unwrap().path())
         .filter(|p| p.extension().is_some_and(|e| e == "json"))
