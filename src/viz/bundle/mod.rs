@@ -198,8 +198,8 @@ pub fn draw(scene: &Scene, x: u32, y: u32, k: u32) -> Result<Canvas, String> {
     // The footer, wrapped to the width; the panels end above it.
     let slab_tests = work.ray_nodes.iter().sum::<u32>() as usize;
     let footer = [
-        "Thin grey: the box whose children a panel shows (the root; then the boxes opened). \
-         Seen from above, a ray or its hit can seem to lie in a culled box it passes over or \
+        "Thin grey: the root, the mesh's own box. Dark grey (panel 2): the boxes the bundle \
+         opened one level up, whose children the panel shows. Seen from above, a ray or its hit can seem to lie in a culled box it passes over or \
          under (y is not drawn)."
             .to_string(),
         format!(
@@ -239,26 +239,15 @@ pub fn draw(scene: &Scene, x: u32, y: u32, k: u32) -> Result<Canvas, String> {
             );
         }
         view.outline(&mut c, &b, style::muted(), 1.2, false);
-        let (bx, by) = view.map(DVec3::new(b.min.x, 0.0, b.min.z));
-        c.text(
-            (bx + 4.0, by + 12.0),
-            "root",
-            11.0,
-            style::muted(),
-            Anchor::Left,
-        );
-        // Below the root, the boxes opened one level up (whose children this panel
-        // shows), outlined as the root is.
-        if level > 0 {
-            for (node, lane) in opened_at(&tested, &depth, nodes, level - 1) {
-                view.outline(
-                    &mut c,
-                    &nodes[node].bounds(lane),
-                    style::muted(),
-                    1.2,
-                    false,
-                );
-            }
+        if level == 0 {
+            let (bx, by) = view.map(DVec3::new(b.min.x, 0.0, b.min.z));
+            c.text(
+                (bx + 4.0, by + 12.0),
+                "root",
+                11.0,
+                style::muted(),
+                Anchor::Left,
+            );
         }
         // Culled boxes first, under the entered ones.
         for want in [false, true] {
@@ -266,6 +255,19 @@ pub fn draw(scene: &Scene, x: u32, y: u32, k: u32) -> Result<Canvas, String> {
                 if (mask != 0) == want {
                     view.level_box(&mut c, &nodes[node].bounds(lane), want);
                 }
+            }
+        }
+        // Over them, the boxes opened one level up (whose children this panel shows): a
+        // child often shares an edge with its parent, so drawn underneath they would hide.
+        if level > 0 {
+            for (node, lane) in opened_at(&tested, &depth, nodes, level - 1) {
+                view.outline(
+                    &mut c,
+                    &nodes[node].bounds(lane),
+                    opened_color(),
+                    2.2,
+                    false,
+                );
             }
         }
         if view.rays(&mut c, &rays, &hits, b.centroid()) == 0 {
@@ -362,6 +364,12 @@ fn entered_fill() -> tiny_skia::Color {
 /// The dashes of a culled box: darker than the figures' usual tossed grey, to read on blue.
 fn culled_color() -> tiny_skia::Color {
     style::rgb(110, 110, 120)
+}
+
+/// The outline of a box opened one level up, drawn over its children: dark enough to read
+/// on their blue edges, solid (dashes are the culled boxes').
+fn opened_color() -> tiny_skia::Color {
+    style::rgba(50, 50, 60, 190)
 }
 
 /// One panel: the mesh's box (x right, z down) and a margin around it, fitted into a

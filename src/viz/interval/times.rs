@@ -174,12 +174,32 @@ pub(super) fn times(
     if own.is_empty() {
         c.text((t0, y), "none enters", 11.0, style::muted(), Anchor::Left);
     }
-    for t in own {
+    for &t in &own {
         c.circle(
             (at(t), y),
             3.5,
             Some((style::background(), 1.2)),
             Some(style::hit()),
+        );
+    }
+    // Entries closer than a dot's width draw as one dot: say how many it stands for.
+    let (first, last) = own
+        .iter()
+        .fold((f32::INFINITY, f32::NEG_INFINITY), |(a, b), &t| {
+            (a.min(t), b.max(t))
+        });
+    if own.len() > 1 && at(last) - at(first) < 3.5 {
+        c.text(
+            (t0, y + 17.0),
+            &format!(
+                "{} rays, one dot: {} enter at t = {}",
+                own.len(),
+                if own.len() == 2 { "both" } else { "all" },
+                num(first)
+            ),
+            11.0,
+            style::muted(),
+            Anchor::Left,
         );
     }
     // The t axis.
