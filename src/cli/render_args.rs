@@ -44,8 +44,9 @@ pub struct RenderArgs {
     /// Acceleration: linear (the lecture's loop over every object) or bvh.
     #[arg(long, value_name = "linear|bvh")]
     pub accel: Option<String>,
-    /// How camera rays walk the BVH: bundle (4×4 neighbouring rays together; the default,
-    /// never the slower on any scene measured) or single (one at a time). The same image either way.
+    /// How camera rays walk the BVH: bundle (4×4 neighbouring rays together; the default: on
+    /// no scene measured slower by more than 2 %, on most faster) or single (one at a time).
+    /// The same image either way.
     #[arg(long, value_name = "single|bundle")]
     pub traversal: Option<String>,
     /// Turn off shadow rays.
