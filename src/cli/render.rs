@@ -44,8 +44,7 @@ pub struct Args {
     /// Progressive rendering: write pass K of the sequence (1: subsampled preview, 4 times
     /// the scene's subsampling, at most 64; 2: the scene's settings; k > 2: 4^(k-2) times its
     /// samples per pixel, and under center and corners a grid of 4^(k-2)). Only pass K is
-    /// traced. With --time-budget: stop after pass K at
-    /// the latest.
+    /// traced. With --time-budget: stop after pass K at the latest.
     #[arg(long, value_name = "K", allow_negative_numbers = true, value_parser = crate::sampling::progressive::parse_pass)]
     pub passes: Option<u32>,
     /// Progressive rendering for about this long: passes 1, 2, 3, ... until the time is

@@ -199,8 +199,8 @@ pub fn draw(scene: &Scene, x: u32, y: u32, k: u32) -> Result<Canvas, String> {
     let slab_tests = work.ray_nodes.iter().sum::<u32>() as usize;
     let footer = [
         "Thin grey: the root, the mesh's own box. Dark grey (panel 2): the boxes the bundle \
-         opened one level up, whose children the panel shows. Seen from above, a ray or its hit can seem to lie in a culled box it passes over or \
-         under (y is not drawn)."
+         opened one level up, whose children the panel shows. Seen from above, a ray or its \
+         hit can seem to lie in a culled box it passes over or under (y is not drawn)."
             .to_string(),
         format!(
             "The whole walk: the bundle opened {} {}, each once for all its rays; its {} made {slab_tests} slab {} (a ray against a node's four boxes), in it or alone.",

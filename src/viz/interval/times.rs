@@ -192,10 +192,14 @@ pub(super) fn times(
         c.text(
             (t0, y + 17.0),
             &format!(
-                "{} rays, one dot: {} enter at t = {}",
+                "{} rays, one dot: {} enter {}",
                 own.len(),
                 if own.len() == 2 { "both" } else { "all" },
-                num(first)
+                if num(first) == num(last) {
+                    format!("at t = {}", num(first))
+                } else {
+                    format!("between t = {} and {}", num(first), num(last))
+                }
             ),
             11.0,
             style::muted(),
