@@ -197,11 +197,18 @@ pub fn draw(scene: &Scene, x: u32, y: u32, k: u32) -> Result<Canvas, String> {
 
     // The footer, wrapped to the width; the panels end above it.
     let slab_tests = work.ray_nodes.iter().sum::<u32>() as usize;
+    // Panel 2 outlines the boxes opened above it only when there are some.
+    let parents = if opened_at(&tested, &depth, nodes, 0).is_empty() {
+        ""
+    } else {
+        " Dark grey (panel 2): the boxes the bundle opened one level up, whose children the \
+         panel shows."
+    };
     let footer = [
-        "Thin grey: the root, the mesh's own box. Dark grey (panel 2): the boxes the bundle \
-         opened one level up, whose children the panel shows. Seen from above, a ray or its \
-         hit can seem to lie in a culled box it passes over or under (y is not drawn)."
-            .to_string(),
+        format!(
+            "Thin grey: the root, the mesh's own box.{parents} Seen from above, a ray or its \
+             hit can seem to lie in a culled box it passes over or under (y is not drawn)."
+        ),
         format!(
             "The whole walk: the bundle opened {} {}, each once for all its rays; its {} made {slab_tests} slab {} (a ray against a node's four boxes), in it or alone.",
             work.opened,

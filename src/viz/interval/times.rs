@@ -182,29 +182,8 @@ pub(super) fn times(
             Some(style::hit()),
         );
     }
-    // Entries closer than a dot's width draw as one dot: say how many it stands for.
-    let (first, last) = own
-        .iter()
-        .fold((f32::INFINITY, f32::NEG_INFINITY), |(a, b), &t| {
-            (a.min(t), b.max(t))
-        });
-    if own.len() > 1 && at(last) - at(first) < 3.5 {
-        c.text(
-            (t0, y + 17.0),
-            &format!(
-                "{} rays, one dot: {} enter {}",
-                own.len(),
-                if own.len() == 2 { "both" } else { "all" },
-                if num(first) == num(last) {
-                    format!("at t = {}", num(first))
-                } else {
-                    format!("between t = {} and {}", num(first), num(last))
-                }
-            ),
-            11.0,
-            style::muted(),
-            Anchor::Left,
-        );
+    if let Some(note) = overlap_note(&own, at, num) {
+        c.text((t0, y + 17.0), &note, 11.0, style::muted(), Anchor::Left);
     }
     // The t axis.
     let y = row_y(5);
@@ -324,4 +303,65 @@ fn tick_label(v: u64, k: i32, sci: bool) -> String {
     let padded = format!("{digits:0>width$}", width = places + 1);
     let (int, frac) = padded.split_at(padded.len() - places);
     format!("{int}.{frac}")
+}
+
+/// Entries closer than a dot's width (7 px at `at`'s scale) draw as one dot, or as dots that
+/// overlap: the note that says so when fewer dots than rays show (`num` writes a t).
+fn overlap_note(
+    own: &[f32],
+    at: impl Fn(f32) -> f32,
+    num: impl Fn(f32) -> String,
+) -> Option<String> {
+    let mut sorted = own.to_vec();
+    sorted.sort_by(f32::total_cmp);
+    let apart = sorted
+        .windows(2)
+        .filter(|p| at(p[1]) - at(p[0]) >= 7.0)
+        .count();
+    match (sorted.first(), sorted.last()) {
+        (Some(&a), Some(&b)) if own.len() > 1 && num(a) == num(b) => Some(format!(
+            "{} rays, one dot: {} enter at t = {}",
+            own.len(),
+            if own.len() == 2 { "both" } else { "all" },
+            num(a)
+        )),
+        (Some(&a), Some(&b)) if apart + 1 < own.len() => Some(format!(
+            "{} rays, overlapping dots: t = {a:.2} to {b:.2}",
+            own.len()
+        )),
+        _ => None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::overlap_note;
+
+    fn note(own: &[f32]) -> Option<String> {
+        // 10 px a unit of t.
+        overlap_note(own, |t| t * 10.0, |t| format!("{t}"))
+    }
+
+    #[test]
+    fn a_note_only_when_fewer_dots_than_rays_show() {
+        assert_eq!(note(&[]), None);
+        assert_eq!(note(&[2.5]), None);
+        assert_eq!(
+            note(&[1.0, 2.0, 3.0]),
+            None,
+            "7 px or more apart: every dot shows"
+        );
+        assert_eq!(
+            note(&[4.0, 4.0]).as_deref(),
+            Some("2 rays, one dot: both enter at t = 4")
+        );
+        assert_eq!(
+            note(&[4.0; 8]).as_deref(),
+            Some("8 rays, one dot: all enter at t = 4")
+        );
+        assert_eq!(
+            note(&[1.0, 1.5, 3.0]).as_deref(),
+            Some("3 rays, overlapping dots: t = 1.00 to 3.00")
+        );
+    }
 }
