@@ -189,13 +189,20 @@ pub fn progressive_with<T>(
 }
 
 /// A short description of a pass's settings, for messages: "subsample 4, 1 spp center".
+/// The samples a pixel takes, which under `corners` are always 5 (its centre and its four
+/// corners, whether the scene says `spp` 1 or 5; a corner is traced once for the four
+/// pixels that share it).
 pub fn describe(s: &RenderSettings) -> String {
     let sub = if s.subsample > 1 {
         format!("subsample {}, ", s.subsample)
     } else {
         String::new()
     };
-    format!("{sub}{} spp {}", s.spp, s.sampler.name())
+    let spp = match s.sampler {
+        SamplerKind::Corners => 5,
+        _ => s.spp,
+    };
+    format!("{sub}{spp} spp {}", s.sampler.name())
 }
 
 #[cfg(test)]
@@ -267,5 +274,15 @@ mod tests {
         );
         // Memory: a big image ends the sequence earlier.
         assert!(pass_settings(&r, 1280, 720, 7).is_err());
+    }
+    #[test]
+    fn a_pass_is_described_by_the_samples_a_pixel_takes() {
+        let p1 = pass_settings(&base(SamplerKind::Center, 1), 64, 48, 1).unwrap();
+        assert_eq!(describe(&p1), "subsample 4, 1 spp center");
+        assert_eq!(describe(&base(SamplerKind::Grid, 16)), "16 spp grid");
+        // Corners takes its centre and four corners whether the scene says spp 1 or 5.
+        for spp in [1, 5] {
+            assert_eq!(describe(&base(SamplerKind::Corners, spp)), "5 spp corners");
+        }
     }
 }
