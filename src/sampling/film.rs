@@ -494,15 +494,31 @@ pub(crate) fn check_memory_kept(
     subsample: u32,
     kept: Kept,
 ) -> Result<(), String> {
-    let most = super::sampler::most_samples(sampler, spp);
-    let need = memory_kept(width, height, most, subsample, kept);
+    let corners = sampler == crate::scene::SamplerKind::Corners;
+    let most = match corners {
+        true => 1,
+        false => super::sampler::most_samples(sampler, spp),
+    };
+    let mut need = memory_kept(width, height, most, subsample, kept);
+    if corners {
+        // Besides its centre, a traced pixel keeps the corners it owns: its top-left one, and
+        // those on the image's right and bottom borders that no pixel further on can own.
+        let (cols, rows) = (
+            traced_lines(width, subsample),
+            traced_lines(height, subsample),
+        );
+        need += (cols * rows + cols + rows + 1) * kept.sample;
+    }
     if need > MEMORY_BUDGET {
         let gib = |b: u64| b as f64 / (1u64 << 30) as f64;
-        let samples = match most == spp {
-            true => format!("{spp} sample(s) per pixel"),
-            false => format!(
+        let samples = if corners {
+            "two samples each (the corners sampler: a centre and a corner)".to_string()
+        } else if most == spp {
+            format!("{spp} sample(s) per pixel")
+        } else {
+            format!(
                 "up to {most} samples per pixel (the adaptive sampler's every level up to {spp})"
-            ),
+            )
         };
         return Err(format!(
             "{width}×{height} pixels at {samples} would need about {:.1} GiB of memory, more than the {:.0} GiB rtlab allows: render fewer pixels or samples",

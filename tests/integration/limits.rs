@@ -506,3 +506,38 @@ fn the_memory_estimate_counts_the_adaptive_samplers_levels() {
     let e = check_memory(side, side, Adaptive, 64, 1).unwrap_err();
     assert!(e.contains("up to 84 samples per pixel"), "{e}");
 }
+
+/// The corners sampler keeps two samples a pixel (its centre and the corner it owns, more
+/// on the right and bottom borders), whatever `spp` says (1 or 5): there is an image size
+/// that one sample a pixel fits and corners does not, the refusal says why, and `render`
+/// refuses it before tracing anything, writing nothing.
+#[test]
+fn the_memory_estimate_counts_the_corners_samplers_two_samples() {
+    use rtlab::sampling::check_memory;
+    use rtlab::scene::SamplerKind::{Center, Corners};
+    let side = (100..12_000u32)
+        .step_by(100)
+        .find(|&s| check_memory(s, s, Corners, 1, 1).is_err())
+        .unwrap();
+    assert!(check_memory(side, side, Center, 1, 1).is_ok(), "{side}");
+    assert!(check_memory(side, side, Corners, 5, 1).is_err(), "{side}");
+    let e = check_memory(side, side, Corners, 1, 1).unwrap_err();
+    assert!(e.contains("two samples each (the corners sampler"), "{e}");
+    let out = tmp("corners-too-big.png");
+    let side = side.to_string();
+    let o = rtlab(&[
+        "render",
+        "scenes/spheres.json",
+        "--width",
+        &side,
+        "--height",
+        &side,
+        "--sampler",
+        "corners",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("the corners sampler"), "{}", stderr(&o));
+    assert!(!out.exists());
+}
