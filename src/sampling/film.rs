@@ -429,7 +429,13 @@ impl Firsts {
 /// sample of a traced pixel kept for reconstruction (film position and colour), and for
 /// every pixel its sample list, the linear image, the 8-bit image and its PNG encoding.
 pub fn memory_needed(width: u32, height: u32, spp: u32, subsample: u32) -> u64 {
-    memory_kept(width, height, spp, subsample, Kept::of::<PixelSample>())
+    let traced = traced_lines(width, subsample) * traced_lines(height, subsample);
+    memory_kept(
+        width,
+        height,
+        traced * spp as u64,
+        Kept::of::<PixelSample>(),
+    )
 }
 
 /// What a render keeps of each sample until its image is made: the bytes of one sample's
@@ -450,12 +456,10 @@ impl Kept {
     }
 }
 
-/// [`memory_needed`] for samples kept as `kept` says.
-fn memory_kept(width: u32, height: u32, spp: u32, subsample: u32, kept: Kept) -> u64 {
+/// [`memory_needed`] for `samples` samples in all, kept as `kept` says.
+fn memory_kept(width: u32, height: u32, samples: u64, kept: Kept) -> u64 {
     let per_pixel = kept.list + 2 * std::mem::size_of::<DVec3>() as u64 + 2 * 3;
-    let per_traced = kept.sample * spp as u64;
-    let traced = traced_lines(width, subsample) * traced_lines(height, subsample);
-    width as u64 * height as u64 * per_pixel + traced * per_traced
+    width as u64 * height as u64 * per_pixel + samples * kept.sample
 }
 
 /// How many of `n` columns (or rows) trace under `--subsample k`: every k-th, and the last.
@@ -494,24 +498,16 @@ pub(crate) fn check_memory_kept(
     subsample: u32,
     kept: Kept,
 ) -> Result<(), String> {
-    let corners = sampler == crate::scene::SamplerKind::Corners;
-    let most = match corners {
-        true => 1,
-        false => super::sampler::most_samples(sampler, spp),
-    };
-    let mut need = memory_kept(width, height, most, subsample, kept);
-    if corners {
-        // Besides its centre, a traced pixel keeps the corners it owns: its top-left one, and
-        // those on the image's right and bottom borders that no pixel further on can own.
-        let (cols, rows) = (
-            traced_lines(width, subsample),
-            traced_lines(height, subsample),
-        );
-        need += (cols * rows + cols + rows + 1) * kept.sample;
-    }
+    let (cols, rows) = (
+        traced_lines(width, subsample),
+        traced_lines(height, subsample),
+    );
+    let samples = super::sampler::samples_kept(sampler, spp, cols, rows);
+    let need = memory_kept(width, height, samples, kept);
     if need > MEMORY_BUDGET {
         let gib = |b: u64| b as f64 / (1u64 << 30) as f64;
-        let samples = if corners {
+        let most = super::sampler::most_samples(sampler, spp);
+        let samples = if sampler == crate::scene::SamplerKind::Corners {
             "two samples each (the corners sampler: a centre and a corner)".to_string()
         } else if most == spp {
             format!("{spp} sample(s) per pixel")

@@ -188,20 +188,15 @@ pub fn progressive_with<T>(
     last
 }
 
-/// A short description of a pass's settings, for messages: "subsample 4, 1 spp center".
-/// The samples a pixel takes, which under `corners` are always 5 (its centre and its four
-/// corners, whether the scene says `spp` 1 or 5; a corner is traced once for the four
-/// pixels that share it).
+/// A short description of a pass's settings, for messages: "subsample 4, 1 spp center", the
+/// samples each pixel's filter takes ([`super::sampler::filter_samples`]).
 pub fn describe(s: &RenderSettings) -> String {
     let sub = if s.subsample > 1 {
         format!("subsample {}, ", s.subsample)
     } else {
         String::new()
     };
-    let spp = match s.sampler {
-        SamplerKind::Corners => 5,
-        _ => s.spp,
-    };
+    let spp = super::sampler::filter_samples(s.sampler, s.spp);
     format!("{sub}{spp} spp {}", s.sampler.name())
 }
 

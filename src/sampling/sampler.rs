@@ -295,8 +295,30 @@ pub fn sample_pixel_into(
     }));
 }
 
+/// The samples each pixel's filter takes with `kind` at `spp`: `spp`, except under
+/// `corners`, always 5 (its centre and its four corners, whether the scene says `spp` 1 or
+/// 5), though each corner is traced once for the four pixels that share it.
+pub fn filter_samples(kind: SamplerKind, spp: u32) -> u32 {
+    match kind {
+        SamplerKind::Corners => 5,
+        _ => spp,
+    }
+}
+
+/// The most samples a render keeps when `cols` × `rows` of its pixels trace: each pixel's
+/// [`most_samples`], except under `corners`, where a pixel keeps its centre and the corners
+/// it owns ([`owned_corners`]): two a pixel, and one more for each row on the right border,
+/// each column on the bottom border and the image's last corner.
+pub fn samples_kept(kind: SamplerKind, spp: u32, cols: u64, rows: u64) -> u64 {
+    match kind {
+        SamplerKind::Corners => 2 * cols * rows + cols + rows + 1,
+        _ => cols * rows * most_samples(kind, spp) as u64,
+    }
+}
+
 /// The most samples one pixel keeps with `kind` at `spp`: `spp`, except for the adaptive
-/// sampler, which keeps every level it refines through, 4 + 16 + … + spp.
+/// sampler, which keeps every level it refines through, 4 + 16 + … + spp (and `corners`,
+/// whose pixels keep different counts: [`samples_kept`]).
 pub fn most_samples(kind: SamplerKind, spp: u32) -> u32 {
     match kind {
         SamplerKind::Adaptive if spp >= 4 => ((4 * spp as u64 - 4) / 3).min(u32::MAX as u64) as u32,
