@@ -19,7 +19,7 @@ pub use filter::Filter;
 pub use image::{encode, encode_as, Image};
 pub use reconstruct::reconstruct as render_reconstruct;
 pub use sampler::{
-    most_samples, pixel_samples, planned_films, sample_pixel, traces_samples, validate_spp,
-    PixelSample,
+    filter_samples, most_samples, pixel_samples, planned_films, sample_pixel, samples_kept,
+    traces_samples, validate_spp, PixelSample,
 };
 pub use tiles::{row_major_order, tiles, Tile, TILE};

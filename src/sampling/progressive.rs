@@ -189,14 +189,14 @@ pub fn progressive_with<T>(
 }
 
 /// A short description of a pass's settings, for messages: "subsample 4, 1 spp center", the
-/// samples each pixel's filter takes ([`super::sampler::filter_samples`]).
+/// samples each pixel's filter takes ([`super::filter_samples`]).
 pub fn describe(s: &RenderSettings) -> String {
     let sub = if s.subsample > 1 {
         format!("subsample {}, ", s.subsample)
     } else {
         String::new()
     };
-    let spp = super::sampler::filter_samples(s.sampler, s.spp);
+    let spp = super::filter_samples(s.sampler, s.spp);
     format!("{sub}{spp} spp {}", s.sampler.name())
 }
 

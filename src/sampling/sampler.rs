@@ -307,7 +307,7 @@ pub fn filter_samples(kind: SamplerKind, spp: u32) -> u32 {
 
 /// The most samples a render keeps when `cols` × `rows` of its pixels trace: each pixel's
 /// [`most_samples`], except under `corners`, where a pixel keeps its centre and the corners
-/// it owns ([`owned_corners`]): two a pixel, and one more for each row on the right border,
+/// it owns (`owned_corners`): two a pixel, and one more for each row on the right border,
 /// each column on the bottom border and the image's last corner.
 pub fn samples_kept(kind: SamplerKind, spp: u32, cols: u64, rows: u64) -> u64 {
     match kind {
@@ -318,7 +318,7 @@ pub fn samples_kept(kind: SamplerKind, spp: u32, cols: u64, rows: u64) -> u64 {
 
 /// The most samples one pixel keeps with `kind` at `spp`: `spp`, except for the adaptive
 /// sampler, which keeps every level it refines through, 4 + 16 + … + spp (and `corners`,
-/// whose pixels keep different counts: [`samples_kept`]).
+/// whose pixels keep different counts: [`super::samples_kept`]).
 pub fn most_samples(kind: SamplerKind, spp: u32) -> u32 {
     match kind {
         SamplerKind::Adaptive if spp >= 4 => ((4 * spp as u64 - 4) / 3).min(u32::MAX as u64) as u32,
