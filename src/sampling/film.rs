@@ -468,6 +468,23 @@ fn traced_lines(n: u32, k: u32) -> u64 {
     (n.div_ceil(k) + u32::from(n > 0 && !(n - 1).is_multiple_of(k))) as u64
 }
 
+/// The most samples a render of `width` × `height` pixels traces and keeps with `sampler` at
+/// `spp`, tracing every `subsample`-th row and column (and the last):
+/// [`super::samples_kept`] of the pixels traced. What [`check_memory`] weighs, and what the
+/// server limits one request to.
+pub fn samples_at_most(
+    (width, height): (u32, u32),
+    sampler: crate::scene::SamplerKind,
+    spp: u32,
+    subsample: u32,
+) -> u64 {
+    let (cols, rows) = (
+        traced_lines(width, subsample),
+        traced_lines(height, subsample),
+    );
+    super::sampler::samples_kept(sampler, spp, cols, rows)
+}
+
 /// The most memory a render may take ([`check_memory`]).
 pub const MEMORY_BUDGET: u64 = 8 << 30;
 
@@ -498,11 +515,7 @@ pub(crate) fn check_memory_kept(
     subsample: u32,
     kept: Kept,
 ) -> Result<(), String> {
-    let (cols, rows) = (
-        traced_lines(width, subsample),
-        traced_lines(height, subsample),
-    );
-    let samples = super::sampler::samples_kept(sampler, spp, cols, rows);
+    let samples = samples_at_most((width, height), sampler, spp, subsample);
     let need = memory_kept(width, height, samples, kept);
     if need > MEMORY_BUDGET {
         let gib = |b: u64| b as f64 / (1u64 << 30) as f64;

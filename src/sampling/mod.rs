@@ -11,7 +11,7 @@ mod reconstruct;
 mod sampler;
 mod tiles;
 
-pub use film::{check_memory, memory_needed, MEMORY_BUDGET};
+pub use film::{check_memory, memory_needed, samples_at_most, MEMORY_BUDGET};
 pub use film::{
     render, render_counting, render_until, Counting, PixelWork, RenderOutput, RenderStats,
 };

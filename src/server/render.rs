@@ -140,9 +140,9 @@ fn prepare(st: &State, q: &Params) -> std::result::Result<Job, Fail> {
     };
     if let Some(k) = pass {
         super::state::check_count(
-            w as u64 * h as u64 * settings.spp as u64,
+            super::state::samples(w, h, &settings),
             "pass",
-            &format!("pass {k}, {w}×{h} pixels × {} spp,", settings.spp),
+            &format!("pass {k}, {},", super::state::render_words(w, h, &settings)),
             &format!("rtlab render --passes {k}"),
         )?;
     }

@@ -285,11 +285,15 @@ fn frames(
     // is shared), so they stop within a few rays once the client has gone.
     let watched = watched(&s, cancel);
     let (plan, mut skipped) = crate::viz::steps::plan(&watched);
-    let (w, h, spp) = (s.camera.width, s.camera.height, s.render.spp);
+    let (w, h) = (s.camera.width, s.camera.height);
     super::state::check_count(
-        w as u64 * h as u64 * spp as u64 * plan.len() as u64,
+        super::state::samples(w, h, &s.render) * plan.len() as u64,
         "--width/--height/--spp",
-        &format!("{} frames of {w}×{h} pixels × {spp} spp", plan.len()),
+        &format!(
+            "{} frames of {}",
+            plan.len(),
+            super::state::render_words(w, h, &s.render)
+        ),
         "rtlab steps",
     )?;
     let frames = crate::viz::steps::render_frames(&watched, &plan, &mut skipped);

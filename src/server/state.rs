@@ -178,13 +178,39 @@ pub fn stamp(path: &std::path::Path) -> Stamp {
 }
 
 fn check_samples(scene: &Scene) -> Result<()> {
-    let (w, h, spp) = (scene.camera.width, scene.camera.height, scene.render.spp);
+    let (w, h) = (scene.camera.width, scene.camera.height);
     check_count(
-        w as u64 * h as u64 * spp as u64,
+        samples(w, h, &scene.render),
         "--width/--height/--spp",
-        &format!("{w}×{h} pixels × {spp} spp"),
+        &render_words(w, h, &scene.render),
         "rtlab render",
     )
+}
+
+/// The most samples a render of `w` × `h` pixels with `r` traces: the corners sampler's two a
+/// pixel, the adaptive sampler's every level, a subsampled pass's fewer pixels.
+pub fn samples(w: u32, h: u32, r: &crate::scene::RenderSettings) -> u64 {
+    crate::sampling::samples_at_most((w, h), r.sampler, r.spp, r.subsample)
+}
+
+/// "1280×720 pixels × 16 spp (sampler adaptive, every 4th line)": the render [`samples`]
+/// counts, for a refusal's message.
+pub fn render_words(w: u32, h: u32, r: &crate::scene::RenderSettings) -> String {
+    use crate::scene::SamplerKind;
+    let mut notes = Vec::new();
+    match r.sampler {
+        SamplerKind::Corners => notes.push("sampler corners: a centre and a corner a pixel".into()),
+        SamplerKind::Adaptive => notes.push("sampler adaptive: up to every level".into()),
+        _ => {}
+    }
+    if r.subsample > 1 {
+        notes.push(format!("every {}th row and column", r.subsample));
+    }
+    let mut s = format!("{w}×{h} pixels × {} spp", r.spp);
+    if !notes.is_empty() {
+        s += &format!(" ({})", notes.join(", "));
+    }
+    s
 }
 
 /// Refuses work of more than [`MAX_SAMPLES`] samples: `n` of them, described by `what`

@@ -543,6 +543,17 @@ fn bad_parameters_get_the_clis_one_line_messages() {
         "{}",
         r.text()
     );
+    // The corners sampler traces two samples a pixel whatever the spp: 6000×6000 is 72
+    // million, past the limit though 6000×6000 × 1 spp is not.
+    let r = s.get("/api/render.png?width=6000&height=6000&sampler=corners");
+    assert_eq!(r.status, 400, "{}", r.text());
+    assert!(
+        r.text().contains(
+            "6000×6000 pixels × 1 spp (sampler corners: a centre and a corner a pixel) is 72012001 samples"
+        ),
+        "{}",
+        r.text()
+    );
     let r = s.get("/api/explain?x=1,2&y=3");
     assert_eq!(
         r.text(),
