@@ -187,10 +187,11 @@ fn check_samples(scene: &Scene) -> Result<()> {
     )
 }
 
-/// The most samples a render of `w` × `h` pixels with `r` traces: the corners sampler's two a
-/// pixel, the adaptive sampler's every level, a subsampled pass's fewer pixels.
+/// The most samples a render of `w` × `h` pixels with `r` traces (the corners sampler's two a
+/// pixel, the adaptive sampler's every level, a subsampled pass's fewer pixels), and never
+/// fewer than its pixels: every pixel is filtered and kept, traced or not.
 pub fn samples(w: u32, h: u32, r: &crate::scene::RenderSettings) -> u64 {
-    crate::sampling::samples_at_most((w, h), r.sampler, r.spp, r.subsample)
+    crate::sampling::samples_at_most((w, h), r.sampler, r.spp, r.subsample).max(w as u64 * h as u64)
 }
 
 /// "1280×720 pixels × 16 spp (sampler adaptive, every 4th line)": the render [`samples`]

@@ -554,6 +554,10 @@ fn bad_parameters_get_the_clis_one_line_messages() {
         "{}",
         r.text()
     );
+    // A subsampled render traces few pixels but keeps them all: it counts its pixels.
+    let r = s.get("/api/render.png?width=9000&height=9000&subsample=8");
+    assert_eq!(r.status, 400, "{}", r.text());
+    assert!(r.text().contains("is 81000000 samples"), "{}", r.text());
     let r = s.get("/api/explain?x=1,2&y=3");
     assert_eq!(
         r.text(),
