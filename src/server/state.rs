@@ -194,8 +194,8 @@ pub fn samples(w: u32, h: u32, r: &crate::scene::RenderSettings) -> u64 {
     crate::sampling::samples_at_most((w, h), r.sampler, r.spp, r.subsample).max(w as u64 * h as u64)
 }
 
-/// "1280×720 pixels × 16 spp (sampler adaptive, every 4th line)": the render [`samples`]
-/// counts, for a refusal's message.
+/// "1280×720 pixels × 16 spp (sampler adaptive: up to every level, one row and column in 4
+/// traced, every pixel counted)": the render [`samples`] counts, for a refusal's message.
 pub fn render_words(w: u32, h: u32, r: &crate::scene::RenderSettings) -> String {
     use crate::scene::SamplerKind;
     let mut notes = Vec::new();
@@ -205,7 +205,10 @@ pub fn render_words(w: u32, h: u32, r: &crate::scene::RenderSettings) -> String 
         _ => {}
     }
     if r.subsample > 1 {
-        notes.push(format!("every {}th row and column", r.subsample));
+        notes.push(format!(
+            "one row and column in {} traced, every pixel counted",
+            r.subsample
+        ));
     }
     let mut s = format!("{w}×{h} pixels × {} spp", r.spp);
     if !notes.is_empty() {

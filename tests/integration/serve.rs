@@ -557,7 +557,13 @@ fn bad_parameters_get_the_clis_one_line_messages() {
     // A subsampled render traces few pixels but keeps them all: it counts its pixels.
     let r = s.get("/api/render.png?width=9000&height=9000&subsample=8");
     assert_eq!(r.status, 400, "{}", r.text());
-    assert!(r.text().contains("is 81000000 samples"), "{}", r.text());
+    assert!(
+        r.text().contains(
+            "9000×9000 pixels × 1 spp (one row and column in 8 traced, every pixel counted) is 81000000 samples"
+        ),
+        "{}",
+        r.text()
+    );
     let r = s.get("/api/explain?x=1,2&y=3");
     assert_eq!(
         r.text(),
