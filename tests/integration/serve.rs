@@ -543,27 +543,23 @@ fn bad_parameters_get_the_clis_one_line_messages() {
         "{}",
         r.text()
     );
-    // The corners sampler traces two samples a pixel whatever the spp: 6000×6000 is 72
-    // million, past the limit though 6000×6000 × 1 spp is not.
-    let r = s.get("/api/render.png?width=6000&height=6000&sampler=corners");
-    assert_eq!(r.status, 400, "{}", r.text());
-    assert!(
-        r.text().contains(
-            "6000×6000 pixels × 1 spp (sampler corners: a centre and a corner a pixel) is 72012001 samples"
+    // Samples are counted as the render takes them. The corners sampler traces two a pixel
+    // whatever the spp: 6000×6000 is 72 million, past the limit though 6000×6000 × 1 spp is
+    // not. A subsampled render traces few pixels but keeps them all: it counts its pixels.
+    for (q, says) in [
+        (
+            "/api/render.png?width=6000&height=6000&sampler=corners",
+            "6000×6000 pixels × 1 spp (sampler corners: a centre and a corner a pixel) is 72012001 samples",
         ),
-        "{}",
-        r.text()
-    );
-    // A subsampled render traces few pixels but keeps them all: it counts its pixels.
-    let r = s.get("/api/render.png?width=9000&height=9000&subsample=8");
-    assert_eq!(r.status, 400, "{}", r.text());
-    assert!(
-        r.text().contains(
-            "9000×9000 pixels × 1 spp (one row and column in 8 traced, every pixel counted) is 81000000 samples"
+        (
+            "/api/render.png?width=9000&height=9000&subsample=8",
+            "9000×9000 pixels × 1 spp (one row and column in 8 traced, every pixel counted) is 81000000 samples",
         ),
-        "{}",
-        r.text()
-    );
+    ] {
+        let r = s.get(q);
+        assert_eq!(r.status, 400, "{q}: {}", r.text());
+        assert!(r.text().contains(says), "{q}: {}", r.text());
+    }
     let r = s.get("/api/explain?x=1,2&y=3");
     assert_eq!(
         r.text(),
