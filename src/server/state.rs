@@ -187,34 +187,42 @@ fn check_samples(scene: &Scene) -> Result<()> {
     )
 }
 
-/// The most samples a render of `w` × `h` pixels with `r` traces (the corners sampler's two a
-/// pixel, the adaptive sampler's every level, a subsampled pass's fewer pixels), and never
-/// fewer than its pixels: every pixel is filtered and kept, traced or not.
+/// The samples a render of `w` × `h` pixels with `r` traces and filters: what the corners
+/// sampler traces (two a pixel, and the right and bottom borders), and for every other
+/// sampler each pixel's samples, all the adaptive sampler's levels counted. A subsampled
+/// render traces fewer pixels, but every pixel is still filtered from a traced pixel's
+/// samples, so subsampling counts the same.
 pub fn samples(w: u32, h: u32, r: &crate::scene::RenderSettings) -> u64 {
-    crate::sampling::samples_at_most((w, h), r.sampler, r.spp, r.subsample).max(w as u64 * h as u64)
+    let traced = crate::sampling::samples_at_most((w, h), r.sampler, r.spp, r.subsample);
+    let filtered = match r.sampler {
+        crate::scene::SamplerKind::Corners => 0,
+        kind => w as u64 * h as u64 * crate::sampling::most_samples(kind, r.spp) as u64,
+    };
+    traced.max(filtered)
 }
 
-/// "1280×720 pixels × 16 spp (sampler adaptive: up to every level, one row and column in 4
-/// traced, every pixel counted)": the render [`samples`] counts, for a refusal's message.
+/// "1280×720 pixels × 64 spp (sampler adaptive: up to 4 + 16 + 64 = 84 a pixel)": the render
+/// [`samples`] counts, for a refusal's message.
 pub fn render_words(w: u32, h: u32, r: &crate::scene::RenderSettings) -> String {
     use crate::scene::SamplerKind;
-    let mut notes = Vec::new();
-    match r.sampler {
-        SamplerKind::Corners => notes.push("sampler corners: a centre and a corner a pixel".into()),
-        SamplerKind::Adaptive => notes.push("sampler adaptive: up to every level".into()),
-        _ => {}
-    }
-    if r.subsample > 1 {
-        notes.push(format!(
-            "one row and column in {} traced, every pixel counted",
-            r.subsample
-        ));
-    }
-    let mut s = format!("{w}×{h} pixels × {} spp", r.spp);
-    if !notes.is_empty() {
-        s += &format!(" ({})", notes.join(", "));
-    }
-    s
+    let most = crate::sampling::most_samples(r.sampler, r.spp);
+    let note = match r.sampler {
+        SamplerKind::Corners => {
+            " (sampler corners: a centre and a corner a pixel, and the borders)".to_string()
+        }
+        SamplerKind::Adaptive if most > r.spp => {
+            let levels: Vec<String> = std::iter::successors(Some(4u64), |l| Some(l * 4))
+                .take_while(|&l| l <= r.spp as u64)
+                .map(|l| l.to_string())
+                .collect();
+            format!(
+                " (sampler adaptive: up to {} = {most} a pixel)",
+                levels.join(" + ")
+            )
+        }
+        _ => String::new(),
+    };
+    format!("{w}×{h} pixels × {} spp{note}", r.spp)
 }
 
 /// Refuses work of more than [`MAX_SAMPLES`] samples: `n` of them, described by `what`

@@ -498,8 +498,9 @@ fn bad_parameters_get_the_clis_one_line_messages() {
     );
     // What some of the refusals below say. Samples are counted as the render takes them:
     // the corners sampler traces two a pixel whatever the spp (6000×6000 is 72 million,
-    // past the limit though 6000×6000 × 1 spp is not), and a subsampled render traces few
-    // pixels but keeps them all, so it counts its pixels.
+    // past the limit though 6000×6000 × 1 spp is not), the adaptive sampler every level (84
+    // a pixel at spp 64), and a subsampled render traces few pixels but filters every pixel
+    // from a traced pixel's samples, so it counts as if unsubsampled.
     let says = [
         (
             "/api/render.png?width=160&height=120&pass=8",
@@ -511,11 +512,15 @@ fn bad_parameters_get_the_clis_one_line_messages() {
         ),
         (
             "/api/render.png?width=6000&height=6000&sampler=corners",
-            "6000×6000 pixels × 1 spp (sampler corners: a centre and a corner a pixel) is 72012001 samples",
+            "6000×6000 pixels × 1 spp (sampler corners: a centre and a corner a pixel, and the borders) is 72012001 samples",
         ),
         (
-            "/api/render.png?width=9000&height=9000&subsample=8",
-            "9000×9000 pixels × 1 spp (one row and column in 8 traced, every pixel counted) is 81000000 samples",
+            "/api/render.png?width=2000&height=2000&subsample=16&sampler=grid&spp=64",
+            "2000×2000 pixels × 64 spp is 256000000 samples",
+        ),
+        (
+            "/api/render.png?width=1000&height=1000&sampler=adaptive&spp=64",
+            "1000×1000 pixels × 64 spp (sampler adaptive: up to 4 + 16 + 64 = 84 a pixel) is 84000000 samples",
         ),
     ];
     let mut heard = 0;
@@ -543,7 +548,8 @@ fn bad_parameters_get_the_clis_one_line_messages() {
         "/api/explain?x=1&y=1&sampler=grid%0a",
         "/api/explain?x=1&y=1&sampler=%1b%5b31mred",
         "/api/render.png?width=6000&height=6000&sampler=corners",
-        "/api/render.png?width=9000&height=9000&subsample=8",
+        "/api/render.png?width=2000&height=2000&subsample=16&sampler=grid&spp=64",
+        "/api/render.png?width=1000&height=1000&sampler=adaptive&spp=64",
     ] {
         let r = s.get(q);
         assert_eq!(r.status, 400, "{q}: {}", r.text());
