@@ -193,12 +193,12 @@ fn check_samples(scene: &Scene) -> Result<()> {
 /// render traces fewer pixels, but every pixel is still filtered from a traced pixel's
 /// samples, so subsampling counts the same.
 pub fn samples(w: u32, h: u32, r: &crate::scene::RenderSettings) -> u64 {
-    let traced = crate::sampling::samples_at_most((w, h), r.sampler, r.spp, r.subsample);
-    let filtered = match r.sampler {
-        crate::scene::SamplerKind::Corners => 0,
+    match r.sampler {
+        crate::scene::SamplerKind::Corners => {
+            crate::sampling::samples_at_most((w, h), r.sampler, r.spp, r.subsample)
+        }
         kind => w as u64 * h as u64 * crate::sampling::most_samples(kind, r.spp) as u64,
-    };
-    traced.max(filtered)
+    }
 }
 
 /// "1280×720 pixels × 64 spp (sampler adaptive: up to 4 + 16 + 64 = 84 a pixel)": the render
