@@ -32,7 +32,8 @@ const MAX_DEPTH: usize = 60;
 /// Children per node of the tree rays walk. (Eight was tried: slower on the 1M-triangle
 /// terrain, the nodes being four cache lines; and again built for AVX2, where eight lanes
 /// are one instruction: 1046 instructions a camera ray on bunny_56k against 955, and slower;
-/// and once more with bundles, on an AVX2 processor: bundles no faster, single rays 0.89.)
+/// and once more with bundles, on an AVX2 processor: bundles no faster, single rays 0.89;
+/// and with bundles on an AVX-512 Xeon: bundles and the bundled render no faster.)
 pub const WIDTH: usize = 4;
 /// Opening a node pushes at most WIDTH children and pops one, and the wide tree is no deeper
 /// than the binary one.
