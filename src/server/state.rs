@@ -187,18 +187,13 @@ fn check_samples(scene: &Scene) -> Result<()> {
     )
 }
 
-/// The samples a render of `w` × `h` pixels with `r` traces and filters: what the corners
-/// sampler traces (two a pixel, and the right and bottom borders), and for every other
-/// sampler each pixel's samples, all the adaptive sampler's levels counted. A subsampled
-/// render traces fewer pixels, but every pixel is still filtered from a traced pixel's
-/// samples, so subsampling counts the same.
+/// The samples a render of `w` × `h` pixels with `r` traces and filters
+/// ([`crate::sampling::samples_at_most`]: two a pixel and the right and bottom borders
+/// under the corners sampler, each pixel's samples under every other, all the adaptive
+/// sampler's levels counted). A subsampled render traces fewer pixels, but every pixel is
+/// still filtered from a traced pixel's samples, so it is counted as if every pixel traced.
 pub fn samples(w: u32, h: u32, r: &crate::scene::RenderSettings) -> u64 {
-    match r.sampler {
-        crate::scene::SamplerKind::Corners => {
-            crate::sampling::samples_at_most((w, h), r.sampler, r.spp, r.subsample)
-        }
-        kind => w as u64 * h as u64 * crate::sampling::most_samples(kind, r.spp) as u64,
-    }
+    crate::sampling::samples_at_most((w, h), r.sampler, r.spp, 1)
 }
 
 /// "1280×720 pixels × 64 spp (sampler adaptive: up to 4 + 16 + 64 = 84 a pixel)": the render

@@ -500,7 +500,7 @@ fn bad_parameters_get_the_clis_one_line_messages() {
     // the corners sampler traces two a pixel whatever the spp (6000×6000 is 72 million,
     // past the limit though 6000×6000 × 1 spp is not), the adaptive sampler every level (84
     // a pixel at spp 64), and a subsampled render traces few pixels but filters every pixel
-    // from a traced pixel's samples, so it counts as if unsubsampled.
+    // from a traced pixel's samples, so it counts as if unsubsampled (under corners too).
     let says = [
         (
             "/api/render.png?width=160&height=120&pass=8",
@@ -517,6 +517,10 @@ fn bad_parameters_get_the_clis_one_line_messages() {
         (
             "/api/render.png?width=2000&height=2000&subsample=16&sampler=grid&spp=64",
             "2000×2000 pixels × 64 spp is 256000000 samples",
+        ),
+        (
+            "/api/render.png?width=6000&height=6000&subsample=64&sampler=corners",
+            "is 72012001 samples",
         ),
         (
             "/api/render.png?width=1000&height=1000&sampler=adaptive&spp=64",
@@ -549,6 +553,7 @@ fn bad_parameters_get_the_clis_one_line_messages() {
         "/api/explain?x=1&y=1&sampler=%1b%5b31mred",
         "/api/render.png?width=6000&height=6000&sampler=corners",
         "/api/render.png?width=2000&height=2000&subsample=16&sampler=grid&spp=64",
+        "/api/render.png?width=6000&height=6000&subsample=64&sampler=corners",
         "/api/render.png?width=1000&height=1000&sampler=adaptive&spp=64",
     ] {
         let r = s.get(q);
