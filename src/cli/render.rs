@@ -102,13 +102,16 @@ fn aov_fits(
 
 /// Passes 1, 2, ... until `budget` seconds have gone (the first pass always completes) or
 /// `max` passes are done, each made by `render` (the colour render, or an AOV's); says on
-/// stderr when each pass is complete (unless quiet).
+/// stderr when each pass is complete (unless quiet). `bar`, the terminal's progress bar
+/// that `render` advances, starts again at each pass, named by it, and the pass lines are
+/// printed above it.
 fn budgeted<T>(
     scene: &crate::scene::Scene,
     budget: f64,
     max: Option<u32>,
     quiet: bool,
-    render: impl FnMut(&crate::scene::RenderSettings, &(dyn Fn() -> bool + Sync)) -> Option<T>,
+    bar: Option<&indicatif::ProgressBar>,
+    mut render: impl FnMut(&crate::scene::RenderSettings, &(dyn Fn() -> bool + Sync)) -> Option<T>,
 ) -> Option<PassOf<T>> {
     // The time is up when `deadline` is cancelled, by a timer thread: a flag is cheaper to
     // ask than the clock. Every pass's settings watch it, so a running pass stops within
@@ -138,6 +141,16 @@ fn budgeted<T>(
         cancel: scene.render.cancel.or(&deadline),
         ..scene.render.clone()
     };
+    // The passes come in order, 1, 2, ...: the bar names the one it counts.
+    let mut pass = 0;
+    let render = |settings: &crate::scene::RenderSettings, stop: &(dyn Fn() -> bool + Sync)| {
+        pass += 1;
+        if let Some(bar) = bar {
+            bar.reset();
+            bar.set_prefix(format!("rendering pass {pass}"));
+        }
+        render(settings, stop)
+    };
     let last = progressive_with(
         scene,
         &base,
@@ -146,12 +159,16 @@ fn budgeted<T>(
         render,
         |p| {
             if !quiet {
-                eprintln!(
+                let line = format!(
                     "pass {}: {} done at {:.2} s",
                     p.index,
                     describe(&p.settings),
                     p.finished
                 );
+                match bar {
+                    Some(bar) => bar.println(line),
+                    None => eprintln!("{line}"),
+                }
             }
             let _ = finished.send(p.index);
             // Spent already (a pass that ended past the budget, pass 1 above all): stop here,
@@ -289,7 +306,8 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
                 let fits = aov_fits(&scene, settings).is_ok();
                 fits.then(|| render_aov(&scene, settings, aov)).flatten()
             };
-            let pass = threads.run(|| budgeted(&scene, budget, args.passes, args.quiet, render));
+            let pass =
+                threads.run(|| budgeted(&scene, budget, args.passes, args.quiet, None, render));
             crate::interrupt::check()?;
             let pass = pass.ok_or_else(|| Error::Other("no pass was completed".into()))?;
             said = reached_lines(&scene, &pass, args.passes, Some(aov));
@@ -343,11 +361,20 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
             let r = &scene.render;
             let worst = crate::trace::worst_case(&scene, r).rays_per_sample;
             let samples = scene.camera.width as f64 * scene.camera.height as f64 * r.spp as f64;
-            eprintln!(
-                "warning: {w} This render of {} samples can trace up to {:.1e} rays under the budget.",
-                samples,
-                samples * worst.min(r.max_rays as f64)
-            );
+            let rays = samples * worst.min(r.max_rays as f64);
+            if args.time_budget.is_some() {
+                // The scene's settings are pass 2; each later pass traces four times as many.
+                eprintln!(
+                    "warning: {w} Pass 2 of this render (the scene's settings, {samples} samples) \
+                     can trace up to {rays:.1e} rays under the ray budget, and each later pass \
+                     four times as many."
+                );
+            } else {
+                eprintln!(
+                    "warning: {w} This render of {samples} samples can trace up to {rays:.1e} \
+                     rays under the ray budget."
+                );
+            }
         }
     }
     let bar = (!args.quiet && std::io::stderr().is_terminal()).then(|| {
@@ -355,11 +382,12 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
         let bar = indicatif::ProgressBar::new(pixels);
         bar.set_style(
             indicatif::ProgressStyle::with_template(
-                "{spinner} rendering [{bar:40}] {percent}% of the pixels {elapsed} (eta {eta})",
+                "{spinner} {prefix} [{bar:40}] {percent}% of the pixels {elapsed} (eta {eta})",
             )
             .expect("valid template")
             .progress_chars("=> "),
         );
+        bar.set_prefix("rendering");
         // The spinner and the clock move even while a slow pixel is still being traced.
         bar.enable_steady_tick(std::time::Duration::from_millis(200));
         bar
@@ -371,9 +399,11 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
     let result = if let Some(budget) = args.time_budget {
         let counting = crate::sampling::Counting::totals_if(stats_format.is_some());
         let render = |settings: &crate::scene::RenderSettings, stop: &(dyn Fn() -> bool + Sync)| {
-            colour_pass(&scene, settings, counting, stop)
+            colour_pass(&scene, settings, counting, bar.as_ref(), stop)
         };
-        let pass = threads.run(|| budgeted(&scene, budget, args.passes, args.quiet, render));
+        let quiet = args.quiet;
+        let pass =
+            threads.run(|| budgeted(&scene, budget, args.passes, quiet, bar.as_ref(), render));
         crate::interrupt::check()?;
         let pass = pass.ok_or_else(|| Error::Other("no pass was completed".into()))?;
         said = reached_lines(&scene, &pass, args.passes, None);

@@ -5,7 +5,7 @@
 //!
 //! | pass | what it traces |
 //! |------|----------------|
-//! | 1 | a preview: `subsample` 4 times the scene's (one pixel in 4×4 traces, the stretched filter fills in the rest) |
+//! | 1 | a preview: `subsample` 4 times the scene's, at most 64 (one pixel in 4×4 traces, the stretched filter fills in the rest) |
 //! | 2 | the scene's own settings: the image `rtlab render` makes without `--passes` |
 //! | k > 2 | 4ᵏ⁻² times the scene's samples per pixel (the grid and jittered samplers twice as many strata per side; center and corners continue as the grid sampler, of which the centre sample is the 1×1 case) |
 //!
@@ -13,8 +13,8 @@
 //! earlier passes took, so a render that stopped at a time budget after pass K has exactly
 //! the bytes of `rtlab render --passes K`. Each pass starts from scratch: the samples of pass
 //! k are not kept for pass k + 1 (the grid and jittered patterns move when they get finer).
-//! As pass k + 1 costs about four times pass k, the discarded work is at most a third of the
-//! total.
+//! As pass k + 1 costs about four times pass k, the passes before the one written cost about
+//! a third of it; under a time budget the pass abandoned when the time ran out is lost too.
 
 use super::film::{check_memory, render_until, Counting, RenderOutput};
 use super::validate_spp;
@@ -132,20 +132,22 @@ pub fn progressive(
 ) -> Option<Pass> {
     let counting = Counting::totals_if(count);
     let render = |settings: &RenderSettings, stop: &(dyn Fn() -> bool + Sync)| {
-        colour_pass(scene, settings, counting, stop)
+        colour_pass(scene, settings, counting, None, stop)
     };
     progressive_with(scene, base, max_passes, stop, render, each)
 }
 
 /// One pass of the colour render, as [`progressive_with`] asks for it: `None` when `stop`
 /// stopped it or its settings' token (a caller's, or a time budget's) was cancelled.
+/// `progress` (a terminal's bar) advances pixel by pixel, as for any render.
 pub fn colour_pass(
     scene: &Scene,
     settings: &RenderSettings,
     counting: Counting,
+    progress: Option<&indicatif::ProgressBar>,
     stop: &(dyn Fn() -> bool + Sync),
 ) -> Option<RenderOutput> {
-    render_until(scene, settings, counting, None, stop).filter(|o| !o.cancelled)
+    render_until(scene, settings, counting, progress, stop).filter(|o| !o.cancelled)
 }
 
 /// [`progressive`], each pass made by `render` from its settings (watching their token) and a
