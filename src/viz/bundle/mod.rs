@@ -202,7 +202,7 @@ pub fn draw(scene: &Scene, x: u32, y: u32, k: u32) -> Result<Canvas, String> {
         ""
     } else {
         " Dark grey (panel 2): the boxes the bundle opened one level up, whose children the \
-         panel shows."
+         panel shows, each drawn a little inside its edges so that shared edges show twice."
     };
     let footer = [
         format!(
@@ -256,11 +256,14 @@ pub fn draw(scene: &Scene, x: u32, y: u32, k: u32) -> Result<Canvas, String> {
                 Anchor::Left,
             );
         }
-        // Culled boxes first, under the entered ones.
+        // Culled boxes first, under the entered ones. Below the root's children, each box
+        // is drawn a little inside its edges, so that an edge it shares with its parent or a
+        // sibling (most of them) still shows as two lines, and the boxes can be counted.
+        let inset = if level > 0 { CHILD_INSET } else { 0.0 };
         for want in [false, true] {
             for &(node, lane, mask) in tested.iter().filter(|t| depth[t.0] == level) {
                 if (mask != 0) == want {
-                    view.level_box(&mut c, &nodes[node].bounds(lane), want);
+                    view.level_box(&mut c, &nodes[node].bounds(lane), want, inset);
                 }
             }
         }
@@ -320,7 +323,7 @@ pub fn draw(scene: &Scene, x: u32, y: u32, k: u32) -> Result<Canvas, String> {
     );
     c.text(
         (lx + 30.0, ly),
-        "entered: at least one of the rays enters it (the bundle goes on into it)",
+        "entered: some ray enters it (the bundle goes on into it; a lone ray, alone)",
         12.0,
         style::ink(),
         Anchor::Left,
@@ -348,6 +351,8 @@ pub fn draw(scene: &Scene, x: u32, y: u32, k: u32) -> Result<Canvas, String> {
 
 /// Figure layout: margins, the gap between the panels, the heights above and below them.
 const SIDE_MARGIN: f32 = 24.0;
+/// Pixels a box below the root's children is drawn inside its edges ([`Panel::level_box`]).
+const CHILD_INSET: f32 = 3.0;
 const GAP: f32 = 28.0;
 /// The footer's text size and line step.
 const FOOTER: f32 = 11.0;
@@ -366,6 +371,26 @@ const NOTE_STEP: f32 = 15.0;
 
 fn entered_fill() -> tiny_skia::Color {
     style::rgba(90, 140, 200, 60)
+}
+
+/// The four edges of the rectangle from `min` to `max` (pixels), each a line (dashed: the
+/// dashes start again at each corner).
+fn edges(
+    c: &mut Canvas,
+    (x0, y0): (f32, f32),
+    (x1, y1): (f32, f32),
+    color: tiny_skia::Color,
+    width: f32,
+    dashed: bool,
+) {
+    for (p, q) in [
+        ((x0, y0), (x1, y0)),
+        ((x1, y0), (x1, y1)),
+        ((x1, y1), (x0, y1)),
+        ((x0, y1), (x0, y0)),
+    ] {
+        c.line(p, q, color, width, dashed);
+    }
 }
 
 /// The dashes of a culled box: darker than the figures' usual tossed grey, to read on blue.
@@ -424,23 +449,19 @@ impl Panel {
         dashed: bool,
     ) {
         let (a, z) = (self.map(bx.min), self.map(bx.max));
-        let (x0, y0, x1, y1) = (a.0.min(z.0), a.1.min(z.1), a.0.max(z.0), a.1.max(z.1));
-        for (p, q) in [
-            ((x0, y0), (x1, y0)),
-            ((x1, y0), (x1, y1)),
-            ((x1, y1), (x0, y1)),
-            ((x0, y1), (x0, y0)),
-        ] {
-            c.line(p, q, color, width, dashed);
-        }
+        let (min, max) = ((a.0.min(z.0), a.1.min(z.1)), (a.0.max(z.0), a.1.max(z.1)));
+        edges(c, min, max, color, width, dashed);
     }
 
-    /// A tested box: filled and outlined if some ray entered it, dashed if all missed it.
-    fn level_box(&self, c: &mut Canvas, bx: &Aabb, entered: bool) {
+    /// A tested box: filled and outlined if some ray entered it, dashed if all missed it;
+    /// drawn `inset` pixels inside its edges (less on a box too small for that).
+    fn level_box(&self, c: &mut Canvas, bx: &Aabb, entered: bool, inset: f32) {
+        let (a, z) = (self.map(bx.min), self.map(bx.max));
+        let size = ((z.0 - a.0).abs(), (z.1 - a.1).abs());
+        let inset = inset.min(size.0.min(size.1) * 0.25);
+        let min = (a.0.min(z.0) + inset, a.1.min(z.1) + inset);
+        let size = (size.0 - 2.0 * inset, size.1 - 2.0 * inset);
         if entered {
-            let (a, z) = (self.map(bx.min), self.map(bx.max));
-            let min = (a.0.min(z.0), a.1.min(z.1));
-            let size = ((z.0 - a.0).abs(), (z.1 - a.1).abs());
             c.rect(
                 min,
                 size,
@@ -448,7 +469,8 @@ impl Panel {
                 Some(entered_fill()),
             );
         } else {
-            self.outline(c, bx, culled_color(), 1.6, true);
+            let far = (min.0 + size.0, min.1 + size.1);
+            edges(c, min, far, culled_color(), 1.6, true);
         }
     }
 
