@@ -481,3 +481,40 @@ fn a_first_pass_renders_where_the_full_image_would_not_fit() {
     assert!(budget.status.success(), "{}", stderr(&budget));
     assert_eq!(std::fs::read(&out).unwrap(), one, "the budget wrote pass 1");
 }
+
+/// On a terminal (a pseudo-terminal from util-linux's `script`, which every Debian has), a
+/// budgeted render's progress bar counts each pass by name, the pass lines print above it,
+/// and the bar moves: it once sat at 0 % for the whole budget, never handed to the passes.
+#[test]
+fn on_a_terminal_the_budgets_bar_counts_each_pass() {
+    let out = tmp("bar.png");
+    let command = format!(
+        "'{}' render '{}' -o '{}' --width 96 --height 72 --time-budget 2",
+        env!("CARGO_BIN_EXE_rtlab"),
+        path("scenes/whitted.json").display(),
+        out.display()
+    );
+    let o = std::process::Command::new("script")
+        .args(["-qec", &command, "/dev/null"])
+        .current_dir(root())
+        .output()
+        .expect("`script` (util-linux) runs: the test needs a pseudo-terminal");
+    let screen = String::from_utf8_lossy(&o.stdout).replace('\r', "\n");
+    assert!(o.status.success(), "{screen}{}", stderr(&o));
+    assert!(screen.contains("pass 1: "), "no line for pass 1: {screen}");
+    assert!(screen.contains("the same image: --passes "), "{screen}");
+    // Some frame of the bar names its pass and shows it under way (above 0 %).
+    let moving = screen.lines().any(|line| {
+        let Some(rest) = line.split("rendering pass ").nth(1) else {
+            return false;
+        };
+        let percent = rest.split("] ").nth(1).and_then(|r| r.split('%').next());
+        percent
+            .and_then(|p| p.trim().parse::<u32>().ok())
+            .is_some_and(|p| p > 0)
+    });
+    assert!(
+        moving,
+        "no frame of the bar shows a pass under way: {screen}"
+    );
+}
