@@ -328,8 +328,8 @@ fn scene_teapot() -> rtlab::scene::Scene {
     scene("scenes/teapot.json")
 }
 
-/// Every line and dot of `c` lies inside one of its panel frames (the rectangles drawn in
-/// the grid colour), up to half a line's width.
+/// Every line, dot and frustum of `c` lies inside one of its panel frames (the rectangles
+/// drawn in the grid colour), up to half a line's width.
 fn in_frames(c: &rtlab::viz::canvas::Canvas) {
     let frames: Vec<([f32; 2], [f32; 2])> = c
         .display
@@ -367,6 +367,13 @@ fn in_frames(c: &rtlab::viz::canvas::Canvas) {
             Prim::Circle { center, .. } => {
                 assert!(inside(*center, 0.0), "{p:?} outside the panels");
                 dots += 1;
+            }
+            // The frustums.
+            Prim::Polygon { points, .. } => {
+                assert!(
+                    points.iter().all(|q| inside(*q, 0.2)),
+                    "{p:?} leaves its panel"
+                );
             }
             Prim::Rect {
                 min, size, fill, ..
@@ -468,4 +475,61 @@ fn panels_the_rays_do_not_cross_say_so() {
     texts_fit(&beside);
     let through = rtlab::viz::bundle::draw(&scene_teapot(), 320, 240, 0).unwrap();
     assert!(!through.texts().join(" ").contains("No ray of the bundle"));
+}
+
+/// Each panel shades the bundle's frustum: one convex region per panel, inside the panel's
+/// frame, that holds every ray drawn (the lines of width 1, from where a ray enters the
+/// panel to its hit), on the book's figure and on a block the image's edge cuts.
+#[test]
+fn each_panel_shades_the_frustum_around_every_ray() {
+    let mut small = scene_teapot();
+    small.camera.update_size(48, 36);
+    let mut clipped = scene_teapot();
+    clipped.camera.update_size(11, 9);
+    for (scene, (x, y)) in [(&small, (22, 17)), (&clipped, (10, 7))] {
+        let c = rtlab::viz::bundle::draw(scene, x, y, 0).unwrap();
+        let frustums: Vec<&Vec<[f32; 2]>> = c
+            .display
+            .iter()
+            .filter_map(|p| match p {
+                Prim::Polygon {
+                    points,
+                    stroke: None,
+                    fill: Some(_),
+                } => Some(points),
+                _ => None,
+            })
+            .collect();
+        assert_eq!(frustums.len(), 2, "one frustum per panel at ({x}, {y})");
+        // Inside a convex polygon: on one side of every edge (either winding), within `slack`.
+        let inside = |poly: &[[f32; 2]], p: [f32; 2], slack: f32| {
+            let sides: Vec<f32> = (0..poly.len())
+                .map(|i| {
+                    let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
+                    let (ex, ey) = (b[0] - a[0], b[1] - a[1]);
+                    let len = (ex * ex + ey * ey).sqrt().max(1e-6);
+                    (ex * (p[1] - a[1]) - ey * (p[0] - a[0])) / len
+                })
+                .collect();
+            sides.iter().all(|&d| d >= -slack) || sides.iter().all(|&d| d <= slack)
+        };
+        let mut rays = 0;
+        for p in &c.display {
+            if let Prim::Line {
+                from, to, width, ..
+            } = p
+            {
+                if *width == 1.0 {
+                    assert!(
+                        frustums
+                            .iter()
+                            .any(|f| inside(f, *from, 0.5) && inside(f, *to, 0.5)),
+                        "ray {p:?} outside the frustums at ({x}, {y})"
+                    );
+                    rays += 1;
+                }
+            }
+        }
+        assert!(rays > 0, "rays drawn at ({x}, {y})");
+    }
 }

@@ -280,6 +280,8 @@ pub fn draw(scene: &Scene, x: u32, y: u32, k: u32) -> Result<Canvas, String> {
                 );
             }
         }
+        // Under the rays, the bundle's frustum: the region of the panel its rays sweep.
+        view.frustum(&mut c, &rays, b.centroid());
         if view.rays(&mut c, &rays, &hits, b.centroid()) == 0 {
             // Nothing of the bundle in the panel: say where it went rather than leave it blank.
             let why = "No ray of the bundle crosses this view: seen from above, all its rays \
@@ -342,6 +344,16 @@ pub fn draw(scene: &Scene, x: u32, y: u32, k: u32) -> Result<Canvas, String> {
         style::ink(),
         Anchor::Left,
     );
+    // Beside the first legend entry, the frustum's swatch.
+    let fx = W / 2.0 + 60.0;
+    c.rect((fx, ly - 6.0), (22.0, 12.0), None, Some(frustum_fill()));
+    c.text(
+        (fx + 30.0, ly),
+        "the bundle's frustum: the wedge its rays sweep",
+        12.0,
+        style::ink(),
+        Anchor::Left,
+    );
     for (i, line) in footer.iter().enumerate() {
         let y = H - 14.0 - FOOTER_STEP * (footer.len() - 1 - i) as f32;
         c.text((SIDE_MARGIN, y), line, FOOTER, style::ink(), Anchor::Left);
@@ -391,6 +403,38 @@ fn edges(
     ] {
         c.line(p, q, color, width, dashed);
     }
+}
+
+/// The frustum's fill: a pale yellow, see-through, so the boxes under it keep their look.
+fn frustum_fill() -> tiny_skia::Color {
+    style::rgba(245, 200, 40, 70)
+}
+
+/// The convex hull of `points`, counter-clockwise on the page's axes (Andrew's monotone
+/// chain); fewer than three points, or all on a line, give fewer than three corners.
+fn convex_hull(mut points: Vec<(f32, f32)>) -> Vec<(f32, f32)> {
+    points.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    points.dedup();
+    if points.len() < 3 {
+        return points;
+    }
+    let cross = |o: (f32, f32), a: (f32, f32), b: (f32, f32)| {
+        (a.0 - o.0) * (b.1 - o.1) - (a.1 - o.1) * (b.0 - o.0)
+    };
+    let mut hull: Vec<(f32, f32)> = Vec::with_capacity(points.len() + 1);
+    for pass in [points.clone(), points.into_iter().rev().collect()] {
+        let start = hull.len();
+        for p in pass {
+            while hull.len() >= start + 2
+                && cross(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0
+            {
+                hull.pop();
+            }
+            hull.push(p);
+        }
+        hull.pop();
+    }
+    hull
 }
 
 /// The dashes of a culled box: darker than the figures' usual tossed grey, to read on blue.
@@ -474,6 +518,38 @@ impl Panel {
         }
     }
 
+    /// Where each ray crosses the panel (seen from above): the part of it between its
+    /// entry into the panel's square and its exit, `None` when it passes beside.
+    fn crossing(&self, r: &Ray, towards: DVec3) -> Option<(f64, f64)> {
+        let far = r.origin.distance(towards) + 4.0 * self.half.max_element();
+        let (mut t_start, mut t_stop) = (0.0f64, far);
+        for (o, d, c, h) in [
+            (r.origin.x, r.dir.x, self.centre.x, self.half.x),
+            (r.origin.z, r.dir.z, self.centre.y, self.half.y),
+        ] {
+            let (a, z) = ((c - h - o) / d, (c + h - o) / d);
+            t_start = t_start.max(a.min(z));
+            t_stop = t_stop.min(a.max(z));
+        }
+        (t_start < t_stop).then_some((t_start, t_stop))
+    }
+
+    /// The bundle's frustum as the panel shows it: the smallest convex region holding every
+    /// ray's crossing of the panel (hits or not), filled pale under the rays. With one origin
+    /// (a pinhole camera) it is the wedge between the outermost rays, cut by the frame.
+    fn frustum(&self, c: &mut Canvas, rays: &[Ray], towards: DVec3) {
+        let mut ends: Vec<(f32, f32)> = Vec::with_capacity(2 * rays.len());
+        for r in rays {
+            if let Some((a, z)) = self.crossing(r, towards) {
+                ends.extend([self.map(r.at(a)), self.map(r.at(z))]);
+            }
+        }
+        let hull = convex_hull(ends);
+        if hull.len() >= 3 {
+            c.polygon(&hull, None, Some(frustum_fill()));
+        }
+    }
+
     /// The rays, from where they enter the panel to their hit (a dot) or across it. The dots
     /// go on after every line, in the figures' hit colour with a white rim, so that no ray's
     /// line hides another ray's hit. Returns how many rays it drew.
@@ -488,17 +564,10 @@ impl Panel {
         let color = style::ray(crate::trace::RayKind::Camera);
         let mut dots = Vec::new();
         for (r, hit) in rays.iter().zip(hits) {
-            let far = r.origin.distance(towards) + 4.0 * self.half.max_element();
-            let (mut t_start, mut t_stop) = (0.0f64, f64::INFINITY);
-            for (o, d, c, h) in [
-                (r.origin.x, r.dir.x, self.centre.x, self.half.x),
-                (r.origin.z, r.dir.z, self.centre.y, self.half.y),
-            ] {
-                let (a, z) = ((c - h - o) / d, (c + h - o) / d);
-                t_start = t_start.max(a.min(z));
-                t_stop = t_stop.min(a.max(z));
-            }
-            let t_end = hit.map_or(far, |h| h.t).min(t_stop);
+            let Some((t_start, t_stop)) = self.crossing(r, towards) else {
+                continue;
+            };
+            let t_end = hit.map_or(t_stop, |h| h.t).min(t_stop);
             if t_start >= t_end {
                 continue;
             }
