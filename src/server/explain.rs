@@ -1,5 +1,5 @@
-//! `GET /api/explain` and `GET /api/diagram.png`: one pixel explained, as `rtlab explain`
-//! explains it, within the bounds a server keeps to.
+//! `GET /api/explain`, `GET /api/diagram.png` and `GET /api/bundle.png`: one pixel
+//! explained, as `rtlab explain` explains it, within the bounds a server keeps to.
 
 use super::routes::{query, run, St};
 use crate::error::Error;
@@ -146,6 +146,29 @@ pub(super) async fn diagram(axum::extract::State(state): St, RawQuery(raw): RawQ
             ..Default::default()
         };
         let canvas = crate::viz::slice::draw(&s, &sample.ray, &opts)?;
+        Ok(("image/png", canvas.png_bytes()?))
+    })
+    .await
+}
+
+/// `GET /api/bundle.png?x=X&y=Y[&sample=K]&<render options>`: the figure of `rtlab explain
+/// --bundle-diagram` (`--sample K`, else 0): the bundle of camera rays in which the render
+/// traces sample K of pixel (x, y), over the first mesh's BVH. Refused, with the CLI's
+/// message, where the render traces no bundle or the scene has no mesh.
+pub(super) async fn bundle(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Response {
+    let q = match query(&raw, &["x", "y", "sample"]) {
+        Ok(q) => q,
+        Err(r) => return r,
+    };
+    run(state, move |st| {
+        let k = match q.own.contains_key("sample") {
+            true => q.number("sample", "sample=0")?,
+            false => 0,
+        };
+        let s = st.scene(&q.words)?;
+        let (x, y) = q.pixel(s.camera.width, s.camera.height)?;
+        let canvas =
+            crate::viz::bundle::draw(&s, x, y, k).map_err(|m| Error::arg("--bundle-diagram", m))?;
         Ok(("image/png", canvas.png_bytes()?))
     })
     .await

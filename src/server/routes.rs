@@ -40,6 +40,7 @@ pub fn router(state: Arc<State>) -> Router {
         .route("/api/status", get(status))
         .route("/api/explain", get(super::explain::explain))
         .route("/api/diagram.png", get(super::explain::diagram))
+        .route("/api/bundle.png", get(super::explain::bundle))
         .route("/api/render.png", get(super::render::render))
         .route("/api/steps", get(steps))
         .route("/api/steps/frame.png", get(step_frame))

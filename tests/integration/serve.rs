@@ -1148,3 +1148,56 @@ fn diff_of_an_uploaded_image_is_the_clis() {
     let r = s.post("/api/diff", &big);
     assert_eq!(r.status, 413, "{}", r.text());
 }
+
+/// `GET /api/bundle.png` is `explain --bundle-diagram`'s figure, byte for byte (`sample=K` is
+/// its `--sample K`, with the render options of the query), and where the CLI refuses the
+/// figure the server answers 400 with the CLI's one line.
+#[test]
+fn the_bundle_figure_is_the_clis() {
+    let s = Server::start(&path("scenes/teapot.json"), &[]);
+    let cli = |name: &str, extra: &[&str]| -> Vec<u8> {
+        let fig = tmp(name);
+        let mut args = vec!["explain", "scenes/teapot.json", "--pixel", "330,260"];
+        args.extend_from_slice(extra);
+        args.extend(["--bundle-diagram", fig.to_str().unwrap()]);
+        let o = rtlab(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        std::fs::read(&fig).unwrap()
+    };
+    let r = s.get("/api/bundle.png?x=330&y=260");
+    assert_eq!(r.status, 200, "{}", r.text());
+    assert_eq!(r.body, cli("serve-bundle.png", &[]));
+    let r = s.get("/api/bundle.png?x=330&y=260&spp=4&sampler=grid&sample=3");
+    assert_eq!(r.status, 200, "{}", r.text());
+    let third = ["--spp", "4", "--sampler", "grid", "--sample", "3"];
+    assert_eq!(r.body, cli("serve-bundle-3.png", &third));
+    assert_ne!(
+        r.body,
+        cli("serve-bundle-0.png", &third[..4]),
+        "sample 3 is not sample 0"
+    );
+    let fig = tmp("serve-bundle-refused.png");
+    for (q, pixel, extra) in [
+        ("traversal=single", "330,260", vec!["--traversal", "single"]),
+        (
+            "sampler=adaptive&spp=4",
+            "330,260",
+            vec!["--sampler", "adaptive", "--spp", "4"],
+        ),
+        // Under --subsample 4 pixel (331, 260) is filled in, not traced.
+        ("subsample=4", "331,260", vec!["--subsample", "4"]),
+    ] {
+        let (x, y) = pixel.split_once(',').unwrap();
+        let r = s.get(&format!("/api/bundle.png?x={x}&y={y}&{q}"));
+        assert_eq!(r.status, 400, "{q}: {}", r.text());
+        let mut args = vec!["explain", "scenes/teapot.json", "--pixel", pixel];
+        args.extend(extra.iter().copied());
+        args.extend(["--bundle-diagram", fig.to_str().unwrap()]);
+        assert_eq!(r.text().trim_end(), cli_error(&args), "{q}");
+    }
+    for q in ["sample=first", "sample=-1", "x=640", "sample=1&sample=2"] {
+        let r = s.get(&format!("/api/bundle.png?x=330&y=260&{q}"));
+        assert_eq!(r.status, 400, "{q}: {}", r.text());
+        assert_eq!(r.text().trim_end().lines().count(), 1, "{q}: one line");
+    }
+}

@@ -14,6 +14,7 @@ const state = {
   kind: "",             // "preview" or "full"
   passOptions: "",      // the options that give the pass shown (its x-rtlab-pass-options)
   explaining: 0,        // the number of the newest explanation asked for
+  bundling: 0,          // the number of the newest bundle figure asked for
   explainedQuery: "",   // the options the explanation shown was made with
   width: 0, height: 0,
   zoom: 1, panX: 0, panY: 0, fitted: true,
@@ -406,6 +407,7 @@ function showExplanation() {
   showGeneration(s);
   showLedger(s);
   showDiagram();
+  showBundle(s);
   $("tree").replaceChildren(rayTree(s.ray, { n: 0 }));
 }
 
@@ -482,6 +484,30 @@ function showDiagram() {
   $("diagram").src = `/api/diagram.png?${join(`x=${x}&y=${y}`, `sample=${state.sample}`, "plane=" + $("plane").value, hl, state.explainedQuery)}`;
 }
 $("plane").addEventListener("change", () => { if (state.selected) showDiagram(); });
+
+// The bundle of camera rays sample `s` was traced in (`rtlab explain --bundle-diagram
+// --sample K`, chapter 13), or the CLI's one line saying why there is none (--traversal
+// single, the adaptive sampler, a scene without a mesh). Only the newest request is shown.
+async function showBundle(s) {
+  const my = ++state.bundling;
+  const img = $("bundle"), why = $("bundle-why");
+  const url = `/api/bundle.png?${join(`x=${s.pixel[0]}&y=${s.pixel[1]}`, `sample=${s.index}`, state.explainedQuery)}`;
+  try {
+    const r = await fetch(url);
+    if (!r.ok) throw new Error((await r.text()).trim().replace(/^error: /, ""));
+    const blob = await r.blob();
+    if (my !== state.bundling) return;
+    if (img.src.startsWith("blob:")) URL.revokeObjectURL(img.src);
+    img.src = URL.createObjectURL(blob);
+    img.hidden = false;
+    why.hidden = true;
+  } catch (err) {
+    if (my !== state.bundling) return;
+    why.textContent = `No bundle figure: ${err.message}`;
+    why.hidden = false;
+    img.hidden = true;
+  }
+}
 
 function rayTitle(r) {
   const kind = { camera: "camera ray", shadow: "shadow ray", reflection: "reflection ray", refraction: "refraction ray", transmission: "transmission ray" }[r.kind] || r.kind;
