@@ -494,7 +494,7 @@ async function showBundle(s) {
   const url = `/api/bundle.png?${join(`x=${s.pixel[0]}&y=${s.pixel[1]}`, `sample=${s.index}`, state.explainedQuery)}`;
   try {
     const r = await fetch(url);
-    if (!r.ok) throw new Error((await r.text()).trim().replace(/^error: /, ""));
+    if (!r.ok) throw new Error((await r.text()).trim().replace(/^error: (argument --bundle-diagram: )?/, ""));
     const blob = await r.blob();
     if (my !== state.bundling) return;
     if (img.src.startsWith("blob:")) URL.revokeObjectURL(img.src);
@@ -503,7 +503,8 @@ async function showBundle(s) {
     why.hidden = true;
   } catch (err) {
     if (my !== state.bundling) return;
-    why.textContent = `No bundle figure: ${err.message}`;
+    const m = err.message;
+    why.textContent = m.charAt(0).toUpperCase() + m.slice(1) + (m.endsWith(".") ? "" : ".");
     why.hidden = false;
     img.hidden = true;
   }
