@@ -486,7 +486,25 @@ fn each_panel_shades_the_frustum_around_every_ray() {
     small.camera.update_size(48, 36);
     let mut clipped = scene_teapot();
     clipped.camera.update_size(11, 9);
-    for (scene, (x, y)) in [(&small, (22, 17)), (&clipped, (10, 7))] {
+    // A mesh scaled up (5 × its file's size, fifty times the teapot scene's): in its own
+    // space a camera ray's direction is a fifth of unit length, and the rays, hits and
+    // frustum are drawn all the same.
+    let big = tmp("bundle-big-teapot.json");
+    let obj = path("scenes/meshes/teapot.obj");
+    let json = serde_json::json!({
+        "camera": {"position": [0, 130, 260], "look_at": [0, 39.4, 0], "fov_y": 35,
+                   "width": 48, "height": 36},
+        "objects": [{"shape": "mesh", "file": obj, "transform": [{"scale": 5}]}]
+    });
+    std::fs::write(&big, json.to_string()).unwrap();
+    let big = rtlab::scene::Scene::load(&big).unwrap();
+    let all = rtlab::viz::bundle::draw(&big, 22, 17, 0)
+        .unwrap()
+        .texts()
+        .join("\n");
+    assert!(!all.contains("No ray of the bundle"), "{all}");
+    assert!(all.contains("rays hit (red dots)"), "{all}");
+    for (scene, (x, y)) in [(&small, (22, 17)), (&clipped, (10, 7)), (&big, (22, 17))] {
         let c = rtlab::viz::bundle::draw(scene, x, y, 0).unwrap();
         let frustums: Vec<&Vec<[f32; 2]>> = c
             .display
@@ -531,5 +549,6 @@ fn each_panel_shades_the_frustum_around_every_ray() {
             }
         }
         assert!(rays > 0, "rays drawn at ({x}, {y})");
+        in_frames(&c);
     }
 }

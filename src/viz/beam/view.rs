@@ -49,33 +49,9 @@ impl View {
         crate::viz::clip::segment(a, b, self.min, self.max).filter(|(p, q)| p != q)
     }
 
-    /// `poly` clipped to the view's rectangle (Sutherland–Hodgman, one edge at a time).
+    /// `poly` clipped to the view's rectangle ([`crate::viz::clip::polygon`]).
     pub(super) fn clip(&self, poly: Vec<DVec2>) -> Vec<DVec2> {
-        let edges: [(usize, f64, bool); 4] = [
-            (0, self.min.x, true),
-            (0, self.max.x, false),
-            (1, self.min.y, true),
-            (1, self.max.y, false),
-        ];
-        let mut out = poly;
-        for (axis, v, low) in edges {
-            let inside = |p: DVec2| if low { p[axis] >= v } else { p[axis] <= v };
-            let input = std::mem::take(&mut out);
-            for (i, &p) in input.iter().enumerate() {
-                let q = input[(i + 1) % input.len()];
-                if inside(p) {
-                    out.push(p);
-                }
-                if inside(p) != inside(q) {
-                    let t = (v - p[axis]) / (q[axis] - p[axis]);
-                    out.push(p + t * (q - p));
-                }
-            }
-            if out.is_empty() {
-                break;
-            }
-        }
-        out
+        crate::viz::clip::polygon(poly, self.min, self.max)
     }
 }
 

@@ -410,33 +410,6 @@ fn frustum_fill() -> tiny_skia::Color {
     style::rgba(245, 200, 40, 70)
 }
 
-/// The convex hull of `points`, counter-clockwise on the page's axes (Andrew's monotone
-/// chain); fewer than three points, or all on a line, give fewer than three corners.
-fn convex_hull(mut points: Vec<(f32, f32)>) -> Vec<(f32, f32)> {
-    points.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
-    points.dedup();
-    if points.len() < 3 {
-        return points;
-    }
-    let cross = |o: (f32, f32), a: (f32, f32), b: (f32, f32)| {
-        (a.0 - o.0) * (b.1 - o.1) - (a.1 - o.1) * (b.0 - o.0)
-    };
-    let mut hull: Vec<(f32, f32)> = Vec::with_capacity(points.len() + 1);
-    for pass in [points.clone(), points.into_iter().rev().collect()] {
-        let start = hull.len();
-        for p in pass {
-            while hull.len() >= start + 2
-                && cross(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0
-            {
-                hull.pop();
-            }
-            hull.push(p);
-        }
-        hull.pop();
-    }
-    hull
-}
-
 /// The dashes of a culled box: darker than the figures' usual tossed grey, to read on blue.
 fn culled_color() -> tiny_skia::Color {
     style::rgb(110, 110, 120)
@@ -518,11 +491,17 @@ impl Panel {
         }
     }
 
-    /// Where each ray crosses the panel (seen from above): the part of it between its
-    /// entry into the panel's square and its exit, `None` when it passes beside.
-    fn crossing(&self, r: &Ray, towards: DVec3) -> Option<(f64, f64)> {
-        let far = r.origin.distance(towards) + 4.0 * self.half.max_element();
-        let (mut t_start, mut t_stop) = (0.0f64, far);
+    /// A t at which ray `r` is well past the panel: its distance to `towards` and twice the
+    /// panel's width beyond, over the length of its direction (in the mesh's own space a
+    /// direction is not of unit length when the mesh is scaled).
+    fn far_t(&self, r: &Ray, towards: DVec3) -> f64 {
+        (r.origin.distance(towards) + 4.0 * self.half.max_element()) / r.dir.length()
+    }
+
+    /// Where ray `r` crosses the panel (seen from above): the part of it between its entry
+    /// into the panel's square and its exit, `None` when it passes beside.
+    fn crossing(&self, r: &Ray) -> Option<(f64, f64)> {
+        let (mut t_start, mut t_stop) = (0.0f64, f64::INFINITY);
         for (o, d, c, h) in [
             (r.origin.x, r.dir.x, self.centre.x, self.half.x),
             (r.origin.z, r.dir.z, self.centre.y, self.half.y),
@@ -534,19 +513,25 @@ impl Panel {
         (t_start < t_stop).then_some((t_start, t_stop))
     }
 
-    /// The bundle's frustum as the panel shows it: the smallest convex region holding every
-    /// ray's crossing of the panel (hits or not), filled pale under the rays. With one origin
-    /// (a pinhole camera) it is the wedge between the outermost rays, cut by the frame.
+    /// The bundle's frustum as the panel shows it, filled pale under the rays: the smallest
+    /// convex region holding every ray from its origin to well past the panel (hits or not),
+    /// cut by the frame. With one origin (a pinhole camera) it is the wedge between the
+    /// outermost rays.
     fn frustum(&self, c: &mut Canvas, rays: &[Ray], towards: DVec3) {
-        let mut ends: Vec<(f32, f32)> = Vec::with_capacity(2 * rays.len());
-        for r in rays {
-            if let Some((a, z)) = self.crossing(r, towards) {
-                ends.extend([self.map(r.at(a)), self.map(r.at(z))]);
-            }
-        }
-        let hull = convex_hull(ends);
-        if hull.len() >= 3 {
-            c.polygon(&hull, None, Some(frustum_fill()));
+        let px = |p: DVec3| {
+            let (x, y) = self.map(p);
+            DVec2::new(x as f64, y as f64)
+        };
+        let ends = rays
+            .iter()
+            .flat_map(|r| [px(r.origin), px(r.at(self.far_t(r, towards)))])
+            .collect();
+        let (min, size) = (DVec2::new(self.at.0 as f64, self.at.1 as f64), self.size);
+        let max = min + DVec2::new(size.0 as f64, size.1 as f64);
+        let cut = crate::viz::clip::polygon(crate::viz::clip::convex_hull(ends), min, max);
+        if cut.len() >= 3 {
+            let corners: Vec<(f32, f32)> = cut.iter().map(|p| (p.x as f32, p.y as f32)).collect();
+            c.polygon(&corners, None, Some(frustum_fill()));
         }
     }
 
@@ -564,10 +549,10 @@ impl Panel {
         let color = style::ray(crate::trace::RayKind::Camera);
         let mut dots = Vec::new();
         for (r, hit) in rays.iter().zip(hits) {
-            let Some((t_start, t_stop)) = self.crossing(r, towards) else {
+            let Some((t_start, t_stop)) = self.crossing(r) else {
                 continue;
             };
-            let t_end = hit.map_or(t_stop, |h| h.t).min(t_stop);
+            let t_end = hit.map_or(self.far_t(r, towards), |h| h.t).min(t_stop);
             if t_start >= t_end {
                 continue;
             }
