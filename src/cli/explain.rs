@@ -6,7 +6,6 @@
 
 use super::RenderArgs;
 use crate::error::{Error, Result};
-use glam::DVec3;
 use std::path::PathBuf;
 
 // The report is a library type; re-exported here where it used to live.
@@ -86,31 +85,9 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
     crate::interrupt::check()?;
     if let Some(k) = args.sample {
         // The pixel's own samples (the adaptive sampler decides how many while tracing).
-        let own = e.samples.iter().filter(|s| s.pixel == [x, y]).count() as u32;
-        let own = own.max(
-            crate::sampling::sample_pixel(
-                &scene.render,
-                scene.camera.width,
-                scene.camera.height,
-                x,
-                y,
-                |_, _| DVec3::ZERO,
-            )
-            .len() as u32,
-        );
-        if k >= own {
-            return Err(Error::arg(
-                "--sample",
-                if own == 0 {
-                    crate::report::explain::not_traced(x, y)
-                } else {
-                    format!(
-                        "sample {k} does not exist: pixel ({x}, {y}) has {own} sample(s), 0..{}",
-                        own - 1
-                    )
-                },
-            ));
-        }
+        let traced = e.samples.iter().filter(|s| s.pixel == [x, y]).count() as u32;
+        crate::report::explain::check_sample(&scene, (x, y), k, traced)
+            .map_err(|m| Error::arg("--sample", m))?;
     }
     if let Some(k) = args.sample {
         e.samples.retain(|s| s.pixel == [x, y] && s.index == k);

@@ -127,12 +127,35 @@ pub fn explain_within(scene: &Scene, x: u32, y: u32, max_rays: u64) -> Option<Ex
     })
 }
 
-/// Parses and checks `--pixel X,Y` against the image size.
 /// Why pixel (x, y) has no ray to show: `--subsample` fills it in from its neighbours.
 pub fn not_traced(x: u32, y: u32) -> String {
     format!("pixel ({x}, {y}) traces no samples of its own (it is filled in by --subsample)")
 }
 
+/// Does pixel (x, y) have a sample `k` (`explain --sample K`)? Its samples are those the
+/// sampler plans for it, or `traced` if more (the adaptive sampler decides while it traces:
+/// an explanation's count of the pixel's own samples; 0 when there is none). Else the
+/// message `--sample` is refused with.
+pub fn check_sample(
+    scene: &Scene,
+    (x, y): (u32, u32),
+    k: u32,
+    traced: u32,
+) -> std::result::Result<(), String> {
+    let (w, h) = (scene.camera.width, scene.camera.height);
+    let planned = sample_pixel(&scene.render, w, h, x, y, |_, _| DVec3::ZERO).len() as u32;
+    let own = traced.max(planned);
+    match own {
+        _ if k < own => Ok(()),
+        0 => Err(not_traced(x, y)),
+        _ => Err(format!(
+            "sample {k} does not exist: pixel ({x}, {y}) has {own} sample(s), 0..{}",
+            own - 1
+        )),
+    }
+}
+
+/// Parses and checks `--pixel X,Y` against the image size.
 pub fn parse_pixel(s: &str, width: u32, height: u32) -> Result<(u32, u32)> {
     let parts: Vec<&str> = s.split(',').map(str::trim).collect();
     let bad = || {

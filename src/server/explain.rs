@@ -151,24 +151,47 @@ pub(super) async fn diagram(axum::extract::State(state): St, RawQuery(raw): RawQ
     .await
 }
 
-/// `GET /api/bundle.png?x=X&y=Y[&sample=K]&<render options>`: the figure of `rtlab explain
+/// The most samples the bundle figure may plan: it draws one bundle, but plans the pixel's
+/// whole 16×16 tile as the render does ([`crate::sampling::bundles::bundle_of`]), 16 bytes a
+/// sample (a 16×16 tile at 4,096 spp).
+pub const MAX_BUNDLE_PLAN: u64 = 1 << 20;
+
+/// `GET /api/bundle.png?x=X&y=Y[&index=K]&<render options>`: the figure of `rtlab explain
 /// --bundle-diagram` (`--sample K`, else 0): the bundle of camera rays in which the render
 /// traces sample K of pixel (x, y), over the first mesh's BVH. Refused, with the CLI's
-/// message, where the render traces no bundle or the scene has no mesh.
+/// message, where the render traces no bundle, the scene has no mesh or the pixel has no
+/// sample K; and where the pixel's tile would plan more than [`MAX_BUNDLE_PLAN`] samples.
 pub(super) async fn bundle(axum::extract::State(state): St, RawQuery(raw): RawQuery) -> Response {
-    let q = match query(&raw, &["x", "y", "sample"]) {
+    let q = match query(&raw, &["x", "y", "index"]) {
         Ok(q) => q,
         Err(r) => return r,
     };
     run(state, move |st| {
-        let k = match q.own.contains_key("sample") {
-            true => q.number("sample", "sample=0")?,
-            false => 0,
-        };
+        let asked = q.own.contains_key("index");
+        let k = if asked { q.number("index", "index=0")? } else { 0 };
         let s = st.scene(&q.words)?;
-        let (x, y) = q.pixel(s.camera.width, s.camera.height)?;
-        let canvas =
-            crate::viz::bundle::draw(&s, x, y, k).map_err(|m| Error::arg("--bundle-diagram", m))?;
+        let (w, h) = (s.camera.width, s.camera.height);
+        let (x, y) = q.pixel(w, h)?;
+        let tile = (w.min(crate::sampling::TILE), h.min(crate::sampling::TILE));
+        let plan = crate::sampling::samples_at_most(tile, s.render.sampler, s.render.spp, 1);
+        if plan > MAX_BUNDLE_PLAN {
+            return Err(Error::arg(
+                "--spp",
+                format!(
+                    "the bundle figure plans pixel ({x}, {y})'s tile of {}×{} pixels: {plan} samples, more than the page draws from ({MAX_BUNDLE_PLAN}); use rtlab explain --pixel {x},{y} --bundle-diagram FIG.png",
+                    tile.0, tile.1
+                ),
+            )
+            .into());
+        }
+        // As `explain --sample K` checks it, when asked (the adaptive sampler, whose count is
+        // known only once traced, is refused by the figure itself).
+        if asked && !matches!(s.render.sampler, crate::scene::SamplerKind::Adaptive) {
+            crate::report::explain::check_sample(&s, (x, y), k, 0)
+                .map_err(|m| Error::arg("--sample", m))?;
+        }
+        let canvas = crate::viz::bundle::draw(&s, x, y, k)
+            .map_err(|m| Error::arg("--bundle-diagram", m))?;
         Ok(("image/png", canvas.png_bytes()?))
     })
     .await

@@ -1149,9 +1149,9 @@ fn diff_of_an_uploaded_image_is_the_clis() {
     assert_eq!(r.status, 413, "{}", r.text());
 }
 
-/// `GET /api/bundle.png` is `explain --bundle-diagram`'s figure, byte for byte (`sample=K` is
+/// `GET /api/bundle.png` is `explain --bundle-diagram`'s figure, byte for byte (`index=K` is
 /// its `--sample K`, with the render options of the query), and where the CLI refuses the
-/// figure the server answers 400 with the CLI's one line.
+/// figure, or the sample, the server answers 400 with the CLI's one line.
 #[test]
 fn the_bundle_figure_is_the_clis() {
     let s = Server::start(&path("scenes/teapot.json"), &[]);
@@ -1167,7 +1167,7 @@ fn the_bundle_figure_is_the_clis() {
     let r = s.get("/api/bundle.png?x=330&y=260");
     assert_eq!(r.status, 200, "{}", r.text());
     assert_eq!(r.body, cli("serve-bundle.png", &[]));
-    let r = s.get("/api/bundle.png?x=330&y=260&spp=4&sampler=grid&sample=3");
+    let r = s.get("/api/bundle.png?x=330&y=260&spp=4&sampler=grid&index=3");
     assert_eq!(r.status, 200, "{}", r.text());
     let third = ["--spp", "4", "--sampler", "grid", "--sample", "3"];
     assert_eq!(r.body, cli("serve-bundle-3.png", &third));
@@ -1186,6 +1186,14 @@ fn the_bundle_figure_is_the_clis() {
         ),
         // Under --subsample 4 pixel (331, 260) is filled in, not traced.
         ("subsample=4", "331,260", vec!["--subsample", "4"]),
+        // Four samples: 0 to 3.
+        (
+            "spp=4&sampler=grid&index=4",
+            "330,260",
+            vec!["--spp", "4", "--sampler", "grid", "--sample", "4"],
+        ),
+        // Past the image.
+        ("", "640,260", vec![]),
     ] {
         let (x, y) = pixel.split_once(',').unwrap();
         let r = s.get(&format!("/api/bundle.png?x={x}&y={y}&{q}"));
@@ -1195,9 +1203,28 @@ fn the_bundle_figure_is_the_clis() {
         args.extend(["--bundle-diagram", fig.to_str().unwrap()]);
         assert_eq!(r.text().trim_end(), cli_error(&args), "{q}");
     }
-    for q in ["sample=first", "sample=-1", "x=640", "sample=1&sample=2"] {
+    for (q, says) in [
+        (
+            "index=first",
+            "error: argument index: expected a whole number, found \"first\"",
+        ),
+        (
+            "index=-1",
+            "error: argument index: expected a whole number, found \"-1\"",
+        ),
+        ("index=1&index=2", "error: argument index: is given twice"),
+        ("sample=1", "error: unexpected argument '--sample' found"),
+    ] {
         let r = s.get(&format!("/api/bundle.png?x=330&y=260&{q}"));
         assert_eq!(r.status, 400, "{q}: {}", r.text());
-        assert_eq!(r.text().trim_end().lines().count(), 1, "{q}: one line");
+        assert!(r.text().trim_end().starts_with(says), "{q}: {}", r.text());
     }
+    // The figure plans the pixel's whole tile: past 2^20 samples the page does not ask.
+    let r = s.get("/api/bundle.png?x=0&y=0&width=16&height=16&spp=8192&sampler=random");
+    assert_eq!(r.status, 400, "{}", r.text());
+    assert!(
+        r.text().contains("plans pixel (0, 0)'s tile"),
+        "{}",
+        r.text()
+    );
 }

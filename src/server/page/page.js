@@ -15,6 +15,7 @@ const state = {
   passOptions: "",      // the options that give the pass shown (its x-rtlab-pass-options)
   explaining: 0,        // the number of the newest explanation asked for
   bundling: 0,          // the number of the newest bundle figure asked for
+  bundleAbort: null,    // its AbortController, while it is on its way
   explainedQuery: "",   // the options the explanation shown was made with
   width: 0, height: 0,
   zoom: 1, panX: 0, panY: 0, fitted: true,
@@ -403,7 +404,7 @@ function showExplanation() {
   $("px-summary").replaceChildren(swatch(e.color), ` colour ${vec(e.color)} → bytes ${e.encoded.join(", ")}`);
   showSamples(e);
   const s = e.samples[state.sample];
-  if (!s) { $("generation").textContent = "this pixel traces no samples of its own"; return; }
+  if (!s) { $("generation").textContent = "this pixel traces no samples of its own"; showBundle(null); return; }
   showGeneration(s);
   showLedger(s);
   showDiagram();
@@ -487,14 +488,20 @@ $("plane").addEventListener("change", () => { if (state.selected) showDiagram();
 
 // The bundle of camera rays sample `s` was traced in (`rtlab explain --bundle-diagram
 // --sample K`, chapter 13), or the CLI's one line saying why there is none (--traversal
-// single, the adaptive sampler, a scene without a mesh). Only the newest request is shown.
+// single, the adaptive sampler, a scene without a mesh); nothing for no sample. Only the
+// newest request is shown, and a newer one aborts the one before.
 async function showBundle(s) {
   const my = ++state.bundling;
   const img = $("bundle"), why = $("bundle-why");
-  const url = `/api/bundle.png?${join(`x=${s.pixel[0]}&y=${s.pixel[1]}`, `sample=${s.index}`, state.explainedQuery)}`;
+  if (state.bundleAbort) state.bundleAbort.abort();
+  state.bundleAbort = null;
+  if (!s) { img.hidden = true; why.hidden = true; return; }
+  const abort = new AbortController();
+  state.bundleAbort = abort;
+  const url = `/api/bundle.png?${join(`x=${s.pixel[0]}&y=${s.pixel[1]}`, `index=${s.index}`, state.explainedQuery)}`;
   try {
-    const r = await fetch(url);
-    if (!r.ok) throw new Error((await r.text()).trim().replace(/^error: (argument --bundle-diagram: )?/, ""));
+    const r = await fetch(url, { signal: abort.signal });
+    if (!r.ok) throw new Error((await r.text()).trim().replace(/^error: (argument [^:]+: )?/, ""));
     const blob = await r.blob();
     if (my !== state.bundling) return;
     if (img.src.startsWith("blob:")) URL.revokeObjectURL(img.src);
@@ -502,7 +509,7 @@ async function showBundle(s) {
     img.hidden = false;
     why.hidden = true;
   } catch (err) {
-    if (my !== state.bundling) return;
+    if (my !== state.bundling || err.name === "AbortError") return;
     const m = err.message;
     why.textContent = m.charAt(0).toUpperCase() + m.slice(1) + (m.endsWith(".") ? "" : ".");
     why.hidden = false;
