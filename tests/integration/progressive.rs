@@ -488,11 +488,14 @@ fn a_first_pass_renders_where_the_full_image_would_not_fit() {
 #[test]
 fn on_a_terminal_the_budgets_bar_counts_each_pass() {
     let out = tmp("bar.png");
+    // Each path in single quotes for the shell `script` runs the command with.
+    let quoted =
+        |p: &std::path::Path| format!("'{}'", p.display().to_string().replace('\'', "'\\''"));
     let command = format!(
-        "'{}' render '{}' -o '{}' --width 96 --height 72 --time-budget 2",
-        env!("CARGO_BIN_EXE_rtlab"),
-        path("scenes/whitted.json").display(),
-        out.display()
+        "{} render {} -o {} --width 96 --height 72 --time-budget 2",
+        quoted(std::path::Path::new(env!("CARGO_BIN_EXE_rtlab"))),
+        quoted(&path("scenes/whitted.json")),
+        quoted(&out)
     );
     let o = std::process::Command::new("script")
         .args(["-qec", &command, "/dev/null"])
