@@ -55,6 +55,11 @@ pub fn polygon(poly: Vec<DVec2>, min: DVec2, max: DVec2) -> Vec<DVec2> {
             break;
         }
     }
+    // A corner on an edge comes back twice: once is enough.
+    out.dedup();
+    if out.len() > 1 && out.first() == out.last() {
+        out.pop();
+    }
     out
 }
 
@@ -138,6 +143,9 @@ mod tests {
             "{cut:?}"
         );
         assert!(polygon(vec![v(10.0, 10.0), v(11.0, 10.0), v(10.0, 11.0)], min, max).is_empty());
+        // Touching the rectangle at one corner only: a point, not a polygon.
+        let touching = polygon(vec![v(0.0, 1.0), v(-2.0, 0.0), v(-2.0, 2.0)], min, max);
+        assert!(touching.len() < 3, "{touching:?}");
     }
 
     #[test]

@@ -504,7 +504,22 @@ fn each_panel_shades_the_frustum_around_every_ray() {
         .join("\n");
     assert!(!all.contains("No ray of the bundle"), "{all}");
     assert!(all.contains("rays hit (red dots)"), "{all}");
-    for (scene, (x, y)) in [(&small, (22, 17)), (&clipped, (10, 7)), (&big, (22, 17))] {
+    // A mesh stretched tall (its top far above the middle of its box), seen from near its
+    // top: the hits lie far from the box's centre, and inside the frustum still.
+    let tall = tmp("bundle-tall-teapot.json");
+    let json = serde_json::json!({
+        "camera": {"position": [0, 40, 6], "look_at": [0, 30, 0], "fov_y": 35,
+                   "width": 48, "height": 36},
+        "objects": [{"shape": "mesh", "file": obj, "transform": [{"scale": [0.2, 4, 0.2]}]}]
+    });
+    std::fs::write(&tall, json.to_string()).unwrap();
+    let tall = rtlab::scene::Scene::load(&tall).unwrap();
+    for (scene, (x, y)) in [
+        (&small, (22, 17)),
+        (&clipped, (10, 7)),
+        (&big, (22, 17)),
+        (&tall, (24, 18)),
+    ] {
         let c = rtlab::viz::bundle::draw(scene, x, y, 0).unwrap();
         let frustums: Vec<&Vec<[f32; 2]>> = c
             .display

@@ -281,8 +281,8 @@ pub fn draw(scene: &Scene, x: u32, y: u32, k: u32) -> Result<Canvas, String> {
             }
         }
         // Under the rays, the bundle's frustum: the region of the panel its rays sweep.
-        view.frustum(&mut c, &rays, b.centroid());
-        if view.rays(&mut c, &rays, &hits, b.centroid()) == 0 {
+        view.frustum(&mut c, &rays, &b);
+        if view.rays(&mut c, &rays, &hits, &b) == 0 {
             // Nothing of the bundle in the panel: say where it went rather than leave it blank.
             let why = "No ray of the bundle crosses this view: seen from above, all its rays \
                        pass beside the mesh's box, so every one misses it.";
@@ -491,11 +491,13 @@ impl Panel {
         }
     }
 
-    /// A t at which ray `r` is well past the panel: its distance to `towards` and twice the
-    /// panel's width beyond, over the length of its direction (in the mesh's own space a
-    /// direction is not of unit length when the mesh is scaled).
-    fn far_t(&self, r: &Ray, towards: DVec3) -> f64 {
-        (r.origin.distance(towards) + 4.0 * self.half.max_element()) / r.dir.length()
+    /// A t at which ray `r` is past the mesh's box `b` and the panel: its distance to the
+    /// box's centre, the box's diagonal and twice the panel's width beyond, over the length
+    /// of its direction (in the mesh's own space a direction is not of unit length when the
+    /// mesh is scaled). Every hit on the mesh comes before it.
+    fn far_t(&self, r: &Ray, b: &Aabb) -> f64 {
+        let beyond = (b.max - b.min).length() + 4.0 * self.half.max_element();
+        (r.origin.distance(b.centroid()) + beyond) / r.dir.length()
     }
 
     /// Where ray `r` crosses the panel (seen from above): the part of it between its entry
@@ -517,14 +519,14 @@ impl Panel {
     /// convex region holding every ray from its origin to well past the panel (hits or not),
     /// cut by the frame. With one origin (a pinhole camera) it is the wedge between the
     /// outermost rays.
-    fn frustum(&self, c: &mut Canvas, rays: &[Ray], towards: DVec3) {
+    fn frustum(&self, c: &mut Canvas, rays: &[Ray], b: &Aabb) {
         let px = |p: DVec3| {
             let (x, y) = self.map(p);
             DVec2::new(x as f64, y as f64)
         };
         let ends = rays
             .iter()
-            .flat_map(|r| [px(r.origin), px(r.at(self.far_t(r, towards)))])
+            .flat_map(|r| [px(r.origin), px(r.at(self.far_t(r, b)))])
             .collect();
         let (min, size) = (DVec2::new(self.at.0 as f64, self.at.1 as f64), self.size);
         let max = min + DVec2::new(size.0 as f64, size.1 as f64);
@@ -538,13 +540,7 @@ impl Panel {
     /// The rays, from where they enter the panel to their hit (a dot) or across it. The dots
     /// go on after every line, in the figures' hit colour with a white rim, so that no ray's
     /// line hides another ray's hit. Returns how many rays it drew.
-    fn rays(
-        &self,
-        c: &mut Canvas,
-        rays: &[Ray],
-        hits: &[Option<LocalHit>],
-        towards: DVec3,
-    ) -> usize {
+    fn rays(&self, c: &mut Canvas, rays: &[Ray], hits: &[Option<LocalHit>], b: &Aabb) -> usize {
         let mut drawn = 0;
         let color = style::ray(crate::trace::RayKind::Camera);
         let mut dots = Vec::new();
@@ -552,7 +548,7 @@ impl Panel {
             let Some((t_start, t_stop)) = self.crossing(r) else {
                 continue;
             };
-            let t_end = hit.map_or(self.far_t(r, towards), |h| h.t).min(t_stop);
+            let t_end = hit.map_or(self.far_t(r, b), |h| h.t).min(t_stop);
             if t_start >= t_end {
                 continue;
             }
