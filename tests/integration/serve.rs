@@ -1194,6 +1194,17 @@ fn the_bundle_figure_is_the_clis() {
         ),
         // Past the image.
         ("", "640,260", vec![]),
+        // The adaptive sampler's pixel has no sample 99 (its count known once traced).
+        (
+            "sampler=adaptive&spp=4&index=99",
+            "330,260",
+            vec!["--sampler", "adaptive", "--spp", "4", "--sample", "99"],
+        ),
+        (
+            "sampler=adaptive&spp=4&index=0",
+            "330,260",
+            vec!["--sampler", "adaptive", "--spp", "4", "--sample", "0"],
+        ),
     ] {
         let (x, y) = pixel.split_once(',').unwrap();
         let r = s.get(&format!("/api/bundle.png?x={x}&y={y}&{q}"));
@@ -1219,12 +1230,16 @@ fn the_bundle_figure_is_the_clis() {
         assert_eq!(r.status, 400, "{q}: {}", r.text());
         assert!(r.text().trim_end().starts_with(says), "{q}: {}", r.text());
     }
-    // The figure plans the pixel's whole tile: past 2^20 samples the page does not ask.
+    // The figure plans the pixel's whole tile: past 2^20 samples the page does not ask. A
+    // tile at the image's edge is smaller (pixel 16 of 17 columns: a tile 1 wide).
     let r = s.get("/api/bundle.png?x=0&y=0&width=16&height=16&spp=8192&sampler=random");
     assert_eq!(r.status, 400, "{}", r.text());
-    assert!(
-        r.text().contains("plans pixel (0, 0)'s tile"),
-        "{}",
-        r.text()
-    );
+    let says = "plans pixel (0, 0)'s tile of 16×16 pixels";
+    assert!(r.text().contains(says), "{}", r.text());
+    let r = s.get("/api/bundle.png?x=16&y=0&width=17&height=16&spp=8192&sampler=random");
+    assert!(!r.text().contains("plans pixel"), "{}", r.text());
+    // Where the figure would not plan (single traversal), the CLI's refusal, not the cap.
+    let r = s
+        .get("/api/bundle.png?x=0&y=0&width=16&height=16&spp=8192&sampler=random&traversal=single");
+    assert!(r.text().contains("--traversal single"), "{}", r.text());
 }

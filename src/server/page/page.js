@@ -495,7 +495,13 @@ async function showBundle(s) {
   const img = $("bundle"), why = $("bundle-why");
   if (state.bundleAbort) state.bundleAbort.abort();
   state.bundleAbort = null;
-  if (!s) { img.hidden = true; why.hidden = true; return; }
+  if (!s) {
+    if (img.src.startsWith("blob:")) URL.revokeObjectURL(img.src);
+    img.removeAttribute("src");
+    img.hidden = true;
+    why.hidden = true;
+    return;
+  }
   const abort = new AbortController();
   state.bundleAbort = abort;
   const url = `/api/bundle.png?${join(`x=${s.pixel[0]}&y=${s.pixel[1]}`, `index=${s.index}`, state.explainedQuery)}`;
