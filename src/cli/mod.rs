@@ -2,6 +2,7 @@
 //! command that renders are one flattened group, [`RenderArgs`].
 
 pub mod beam;
+mod budget;
 pub mod compare;
 pub mod convert;
 pub mod diff;
