@@ -312,6 +312,9 @@ pub enum NoBundle {
     Alone(&'static str),
     /// The pixel has no such sample (`--subsample` skips the pixel, or it has fewer).
     NoSample,
+    /// The pixel's tile (its size) would plan more samples than the caller allows
+    /// ([`bundle_of_within`]).
+    TooMany { tile: (u32, u32), samples: u64 },
 }
 
 /// The bundle in which a render with `settings` traces sample `k` of pixel (x, y): the
@@ -325,6 +328,18 @@ pub fn bundle_of(
     (x, y): (u32, u32),
     k: u32,
 ) -> Result<Bundle, NoBundle> {
+    bundle_of_within(scene, settings, (x, y), k, u64::MAX)
+}
+
+/// [`bundle_of`], refused ([`NoBundle::TooMany`]) when the pixel's tile would plan more than
+/// `max_plan` samples (a server's bound: the plan is the whole tile's, 16 bytes a sample).
+pub fn bundle_of_within(
+    scene: &Scene,
+    settings: &RenderSettings,
+    (x, y): (u32, u32),
+    k: u32,
+    max_plan: u64,
+) -> Result<Bundle, NoBundle> {
     if settings.traversal != crate::accel::Traversal::Bundle {
         return Err(NoBundle::Single);
     }
@@ -332,10 +347,18 @@ pub fn bundle_of(
         return Err(NoBundle::Alone(why));
     }
     let (w, h) = (scene.camera.width, scene.camera.height);
-    let tile = super::tiles::tiles(w, h)
-        .into_iter()
-        .find(|t| t.x.contains(&x) && t.y.contains(&y))
-        .ok_or(NoBundle::NoSample)?;
+    if x >= w || y >= h {
+        return Err(NoBundle::NoSample);
+    }
+    let tile = super::tiles::tile_of(w, h, x, y);
+    let size = (tile.x.len() as u32, tile.y.len() as u32);
+    let samples = super::samples_at_most(size, settings.sampler, settings.spp, 1);
+    if samples > max_plan {
+        return Err(NoBundle::TooMany {
+            tile: size,
+            samples,
+        });
+    }
     let plan = TilePlan::new(settings, w, h, &tile).ok_or(NoBundle::NoSample)?;
     let mut block = ArrayVec::new();
     let (mut pixels, mut samples) = (ArrayVec::new(), ArrayVec::new());

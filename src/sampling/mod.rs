@@ -22,4 +22,4 @@ pub use sampler::{
     filter_samples, most_samples, pixel_samples, planned_films, sample_pixel, samples_kept,
     traces_samples, validate_spp, PixelSample,
 };
-pub use tiles::{row_major_order, tiles, Tile, TILE};
+pub use tiles::{row_major_order, tile_of, tiles, Tile, TILE};

@@ -45,6 +45,15 @@ pub fn tiles(width: u32, height: u32) -> Vec<Tile> {
         .collect()
 }
 
+/// The tile of [`tiles`] that holds pixel (x, y) (inside the image).
+pub fn tile_of(width: u32, height: u32, x: u32, y: u32) -> Tile {
+    let (tx, ty) = (x / TILE * TILE, y / TILE * TILE);
+    Tile {
+        x: tx..(tx + TILE).min(width),
+        y: ty..(ty + TILE).min(height),
+    }
+}
+
 /// Where each pixel's result sits among per-tile results (tile by tile, each in its tile's
 /// row-major order, as [`tiles`] lists them): for every pixel in row-major order, (tile,
 /// index within the tile).
@@ -65,8 +74,8 @@ pub fn row_major_order(width: u32, height: u32) -> impl Iterator<Item = (usize, 
 mod tests {
     use super::*;
 
-    /// Every pixel is in exactly one tile, the one the index rule names, and edge tiles are
-    /// cut to the image.
+    /// Every pixel is in exactly one tile, the one the index rule and `tile_of` name, and
+    /// edge tiles are cut to the image.
     #[test]
     fn tiles_cover_every_pixel_once() {
         for (w, h) in [(1, 1), (16, 16), (17, 5), (40, 33), (1280, 720)] {
@@ -77,6 +86,7 @@ mod tests {
                 for (x, y) in tile.pixels() {
                     seen[(y * w + x) as usize] += 1;
                     assert_eq!(t as u32, (y / TILE) * w.div_ceil(TILE) + x / TILE);
+                    assert_eq!(&tile_of(w, h, x, y), tile, "{w}×{h} ({x}, {y})");
                 }
             }
             assert!(seen.iter().all(|&n| n == 1), "{w}×{h}");

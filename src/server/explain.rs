@@ -168,31 +168,13 @@ pub(super) async fn bundle(axum::extract::State(state): St, RawQuery(raw): RawQu
     };
     run(state, move |st| {
         let asked = q.own.contains_key("index");
-        let k = if asked { q.number("index", "index=0")? } else { 0 };
+        let k = if asked {
+            q.number("index", "index=0")?
+        } else {
+            0
+        };
         let s = st.scene(&q.words)?;
-        let (w, h) = (s.camera.width, s.camera.height);
-        let (x, y) = q.pixel(w, h)?;
-        // The figure plans the pixel's tile when it draws at all (bundled camera rays, a
-        // mesh): bounded here, before anything is planned (`check_sample` plans the pixel).
-        let has_mesh = s
-            .objects
-            .iter()
-            .any(|o| matches!(o.shape, crate::shapes::Shape::Mesh(_)));
-        if crate::sampling::bundles::bundled(&s.render) && has_mesh {
-            let edge = |c: u32, n: u32| crate::sampling::TILE.min(n - c / crate::sampling::TILE * crate::sampling::TILE);
-            let tile = (edge(x, w), edge(y, h));
-            let plan = crate::sampling::samples_at_most(tile, s.render.sampler, s.render.spp, 1);
-            if plan > MAX_BUNDLE_PLAN {
-                return Err(Error::arg(
-                    "--spp",
-                    format!(
-                        "the bundle figure plans pixel ({x}, {y})'s tile of {}×{} pixels: {plan} samples, more than the page draws from ({MAX_BUNDLE_PLAN}); use rtlab explain --pixel {x},{y} --bundle-diagram FIG.png",
-                        tile.0, tile.1
-                    ),
-                )
-                .into());
-            }
-        }
+        let (x, y) = q.pixel(s.camera.width, s.camera.height)?;
         // As `explain --sample K` checks it, when asked: against the samples the sampler plans
         // for the pixel, or, under the adaptive sampler, which decides while it traces, those
         // the pixel's explanation traced (bounded as `/api/explain` is).
@@ -208,7 +190,7 @@ pub(super) async fn bundle(axum::extract::State(state): St, RawQuery(raw): RawQu
             crate::report::explain::check_sample(&s, (x, y), k, traced)
                 .map_err(|m| Error::arg("--sample", m))?;
         }
-        let canvas = crate::viz::bundle::draw(&s, x, y, k)
+        let canvas = crate::viz::bundle::draw_within(&s, x, y, k, MAX_BUNDLE_PLAN)
             .map_err(|m| Error::arg("--bundle-diagram", m))?;
         Ok(("image/png", canvas.png_bytes()?))
     })

@@ -7,7 +7,7 @@ use super::canvas::{Anchor, Canvas};
 use super::style;
 use crate::accel::{BundleWork, BUNDLE};
 use crate::math::Ray;
-use crate::sampling::bundles::{bundle_of, NoBundle};
+use crate::sampling::bundles::{bundle_of_within, NoBundle};
 use crate::scene::Scene;
 use crate::shapes::Shape;
 use glam::DVec3;
@@ -25,12 +25,18 @@ const H: f32 = 480.0;
 const LEVELS: usize = 2;
 
 /// Draws the bundle in which a render with the scene's settings traces sample `k` of pixel
-/// (x, y) ([`bundle_of`]: the renderer's own block and rays, the block's pixels that trace a
+/// (x, y) ([`crate::sampling::bundles::bundle_of`]: the renderer's own block and rays, the block's pixels that trace a
 /// sample `k`), walking the first mesh of the scene. Fails, with a message naming the reason,
 /// when the scene has no mesh or the render traces no such bundle: `--traversal single`, a
 /// reason the camera rays go alone ([`crate::sampling::bundles::alone_because`]), or a pixel
 /// with no sample `k` (one `--subsample` skips).
 pub fn draw(scene: &Scene, x: u32, y: u32, k: u32) -> Result<Canvas, String> {
+    draw_within(scene, x, y, k, u64::MAX)
+}
+
+/// [`draw`], refused when the pixel's tile would plan more than `max_plan` samples (the
+/// bundle is found as the render finds it, planning the whole tile: a server bounds that).
+pub fn draw_within(scene: &Scene, x: u32, y: u32, k: u32, max_plan: u64) -> Result<Canvas, String> {
     let (object, mesh) = scene
         .objects
         .iter()
@@ -39,7 +45,8 @@ pub fn draw(scene: &Scene, x: u32, y: u32, k: u32) -> Result<Canvas, String> {
             _ => None,
         })
         .ok_or("the bundle figure needs a scene with a mesh")?;
-    let bundle = bundle_of(scene, &scene.render, (x, y), k).map_err(|why| match why {
+    let within = bundle_of_within(scene, &scene.render, (x, y), k, max_plan);
+    let bundle = within.map_err(|why| match why {
         NoBundle::Single => "no bundle to draw: with --traversal single every camera ray walks \
             the BVHs alone (the default, --traversal bundle, traces bundles)"
             .to_string(),
@@ -50,6 +57,12 @@ pub fn draw(scene: &Scene, x: u32, y: u32, k: u32) -> Result<Canvas, String> {
         NoBundle::NoSample => format!(
             "{}: no bundle to draw; pick a traced pixel",
             crate::report::explain::not_traced(x, y)
+        ),
+        NoBundle::TooMany { tile, samples } => format!(
+            "the bundle figure plans pixel ({x}, {y})'s tile of {}×{} pixels: {samples} \
+             samples, more than {max_plan} here; rtlab explain --pixel {x},{y} \
+             --bundle-diagram FIG.png draws it",
+            tile.0, tile.1
         ),
     })?;
     let rays: Vec<Ray> = bundle
