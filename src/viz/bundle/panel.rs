@@ -127,19 +127,19 @@ impl Panel {
         (r.origin.distance(b.centroid()) + beyond) / r.dir.length()
     }
 
-    /// Where ray `r` crosses the panel (seen from above): the part of it between its entry
-    /// into the panel's square and its exit, `None` when it passes beside.
-    fn crossing(&self, r: &Ray) -> Option<(f64, f64)> {
-        let (mut t_start, mut t_stop) = (0.0f64, f64::INFINITY);
-        for (o, d, c, h) in [
-            (r.origin.x, r.dir.x, self.centre.x, self.half.x),
-            (r.origin.z, r.dir.z, self.centre.y, self.half.y),
-        ] {
-            let (a, z) = ((c - h - o) / d, (c + h - o) / d);
-            t_start = t_start.max(a.min(z));
-            t_stop = t_stop.min(a.max(z));
-        }
-        (t_start < t_stop).then_some((t_start, t_stop))
+    /// Where `p` is drawn, in f64 for clipping.
+    fn point(&self, p: DVec3) -> DVec2 {
+        let (x, y) = self.map(p);
+        DVec2::new(x as f64, y as f64)
+    }
+
+    /// The panel's frame, its top-left and bottom-right corners.
+    fn frame(&self) -> (DVec2, DVec2) {
+        let min = DVec2::new(self.at.0 as f64, self.at.1 as f64);
+        (
+            min,
+            min + DVec2::new(self.size.0 as f64, self.size.1 as f64),
+        )
     }
 
     /// The bundle's frustum as the panel shows it, filled pale under the rays: the smallest
@@ -147,16 +147,11 @@ impl Panel {
     /// cut by the frame. With one origin (a pinhole camera) it is the wedge between the
     /// outermost rays.
     pub(super) fn frustum(&self, c: &mut Canvas, rays: &[Ray], b: &Aabb) {
-        let px = |p: DVec3| {
-            let (x, y) = self.map(p);
-            DVec2::new(x as f64, y as f64)
-        };
         let ends = rays
             .iter()
-            .flat_map(|r| [px(r.origin), px(r.at(self.far_t(r, b)))])
+            .flat_map(|r| [self.point(r.origin), self.point(r.at(self.far_t(r, b)))])
             .collect();
-        let (min, size) = (DVec2::new(self.at.0 as f64, self.at.1 as f64), self.size);
-        let max = min + DVec2::new(size.0 as f64, size.1 as f64);
+        let (min, max) = self.frame();
         let cut = crate::viz::clip::polygon(crate::viz::clip::convex_hull(ends), min, max);
         if cut.len() >= 3 {
             let corners: Vec<(f32, f32)> = cut.iter().map(|p| (p.x as f32, p.y as f32)).collect();
@@ -177,24 +172,30 @@ impl Panel {
         let mut drawn = 0;
         let color = style::ray(crate::trace::RayKind::Camera);
         let mut dots = Vec::new();
+        let (min, max) = self.frame();
         for (r, hit) in rays.iter().zip(hits) {
-            let Some((t_start, t_stop)) = self.crossing(r) else {
+            // From the origin to the hit, or on past the panel, cut by the frame.
+            let end = r.at(hit.map_or(self.far_t(r, b), |h| h.t));
+            let Some((a, z)) =
+                crate::viz::clip::segment(self.point(r.origin), self.point(end), min, max)
+            else {
                 continue;
             };
-            let t_end = hit.map_or(self.far_t(r, b), |h| h.t).min(t_stop);
-            if t_start >= t_end {
-                continue;
+            // A ray seen end-on from above (straight down) is only its hit's dot.
+            if a != z {
+                c.line(
+                    (a.x as f32, a.y as f32),
+                    (z.x as f32, z.y as f32),
+                    color,
+                    1.0,
+                    false,
+                );
             }
-            c.line(
-                self.map(r.at(t_start)),
-                self.map(r.at(t_end)),
-                color,
-                1.0,
-                false,
-            );
             drawn += 1;
-            if let Some(h) = hit.filter(|h| h.t <= t_stop) {
-                dots.push(self.map(r.at(h.t)));
+            // The hit is shown when it is inside the frame.
+            let at = self.point(end);
+            if hit.is_some() && at.cmpge(min).all() && at.cmple(max).all() {
+                dots.push((at.x as f32, at.y as f32));
             }
         }
         for at in dots {
