@@ -85,8 +85,7 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
     crate::interrupt::check()?;
     if let Some(k) = args.sample {
         // The pixel's own samples (the adaptive sampler decides how many while tracing).
-        let traced = e.samples.iter().filter(|s| s.pixel == [x, y]).count() as u32;
-        crate::report::explain::check_sample(&scene, (x, y), k, traced)
+        crate::report::explain::check_sample(&scene, (x, y), k, e.own_samples())
             .map_err(|m| Error::arg("--sample", m))?;
     }
     if let Some(k) = args.sample {

@@ -43,6 +43,18 @@ pub struct Explanation {
     pub samples: Vec<SampleNode>,
 }
 
+impl Explanation {
+    /// How many of the samples are the pixel's own (the rest are neighbours' that its filter
+    /// reaches): under the adaptive sampler, which decides while it traces, the count
+    /// [`check_sample`] needs.
+    pub fn own_samples(&self) -> u32 {
+        self.samples
+            .iter()
+            .filter(|s| s.pixel == self.pixel)
+            .count() as u32
+    }
+}
+
 /// Explains pixel (x, y): traces every sample that reaches it with a [`TreeRecorder`] and
 /// reconstructs the pixel with the same filter code `render` uses.
 pub fn explain(scene: &Scene, x: u32, y: u32) -> Explanation {

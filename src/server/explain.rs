@@ -180,11 +180,7 @@ pub(super) async fn bundle(axum::extract::State(state): St, RawQuery(raw): RawQu
         // the pixel's explanation traced (bounded as `/api/explain` is).
         if asked {
             let traced = match s.render.sampler {
-                crate::scene::SamplerKind::Adaptive => explained(&s, x, y)?
-                    .samples
-                    .iter()
-                    .filter(|e| e.pixel == [x, y])
-                    .count() as u32,
+                crate::scene::SamplerKind::Adaptive => explained(&s, x, y)?.own_samples(),
                 _ => 0,
             };
             crate::report::explain::check_sample(&s, (x, y), k, traced)
