@@ -14,8 +14,11 @@ pub(super) enum TileSamples {
     /// subsampling, [`super::sampler::only_centres`]): its colour is all that is not known
     /// already, 24 bytes a pixel rather than a sample record and a list end (60). A render
     /// writes every byte it keeps while its trace runs, into memory the system hands over
-    /// page by page; keeping less made the default render's trace measurably faster.
-    Centres(Vec<DVec3>),
+    /// page by page; keeping less made the default render's trace measurably faster. Kept
+    /// as plain arrays so that a plan's room comes zeroed from the allocator
+    /// (`vec![[0.0; 3]; n]` asks for zeroed memory, which fresh pages already are) instead
+    /// of written with zeros colour by colour before the trace writes each colour again.
+    Centres(Vec<[f64; 3]>),
     /// Every sample; pixel l's are `samples[ends[l - 1]..ends[l]]` (from 0 for l = 0).
     Listed {
         samples: Vec<PixelSample>,
@@ -56,7 +59,7 @@ impl TileSamples {
                 scratch.clear();
                 fill(scratch);
                 debug_assert!(scratch.len() == 1, "a centre pixel traces one sample");
-                colors.extend(scratch.iter().map(|s| s.color));
+                colors.extend(scratch.iter().map(|s| s.color.to_array()));
             }
             TileSamples::Listed { samples, ends } => {
                 fill(samples);
@@ -69,7 +72,7 @@ impl TileSamples {
     /// each pixel of a plan of centres, whole records for a listed one.
     pub(super) fn planned(plan: &TilePlan) -> Self {
         match plan {
-            TilePlan::Centres { len } => TileSamples::Centres(vec![DVec3::ZERO; *len]),
+            TilePlan::Centres { len } => TileSamples::Centres(vec![[0.0; 3]; *len]),
             TilePlan::Listed { films, starts } => TileSamples::Listed {
                 samples: vec![PixelSample::UNTRACED; films.len()],
                 ends: starts[1..].to_vec(),
@@ -81,7 +84,7 @@ impl TileSamples {
     #[inline(always)]
     pub(super) fn set(&mut self, i: usize, s: PixelSample) {
         match self {
-            TileSamples::Centres(colors) => colors[i] = s.color,
+            TileSamples::Centres(colors) => colors[i] = s.color.to_array(),
             TileSamples::Listed { samples, .. } => samples[i] = s,
         }
     }
@@ -103,7 +106,9 @@ impl TileSamples {
         (x, y): (u32, u32),
     ) -> impl Iterator<Item = (DVec2, DVec3, f64)> + '_ {
         let (one, list): (Option<(DVec2, DVec3, f64)>, &[PixelSample]) = match self {
-            TileSamples::Centres(colors) => (Some((centre(x, y), colors[l], 1.0)), &[]),
+            TileSamples::Centres(colors) => {
+                (Some((centre(x, y), DVec3::from_array(colors[l]), 1.0)), &[])
+            }
             TileSamples::Listed { samples, ends } => {
                 let start = if l == 0 { 0 } else { ends[l - 1] as usize };
                 (None, &samples[start..ends[l] as usize])
