@@ -567,3 +567,49 @@ fn each_panel_shades_the_frustum_around_every_ray() {
         in_frames(&c);
     }
 }
+
+/// A mesh flat in z (one triangle standing in the plane z = 0, seen from the front) is a line
+/// from above: its panels still get a band to draw the rays across, every ray and hit of a
+/// bundle that hits it is drawn inside the frames, and no text overlaps another.
+#[test]
+fn a_mesh_flat_in_the_view_from_above_still_gets_panels_to_draw_in() {
+    let obj = tmp("bundle-flat-triangle.obj");
+    std::fs::write(&obj, "v -1 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let json = serde_json::json!({
+        "camera": {"position": [0, 0.5, 3], "look_at": [0, 0.5, 0], "fov_y": 40,
+                   "width": 32, "height": 24},
+        "objects": [{"shape": "mesh", "file": obj}]
+    });
+    let file = tmp("bundle-flat-triangle.json");
+    std::fs::write(&file, json.to_string()).unwrap();
+    let scene = rtlab::scene::Scene::load(&file).unwrap();
+    let c = rtlab::viz::bundle::draw(&scene, 16, 12, 0).unwrap();
+    let all = c.texts().join("\n");
+    assert!(all.contains("16 of 16 rays hit"), "{all}");
+    assert!(!all.contains("No ray of the bundle"), "{all}");
+    let frames: Vec<[f32; 2]> = c
+        .display
+        .iter()
+        .filter_map(|p| match p {
+            Prim::Rect {
+                size,
+                stroke: Some(s),
+                fill: None,
+                ..
+            } if s == "#e4e4ea" => Some(*size),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(frames.len(), 2, "{frames:?}");
+    for size in &frames {
+        assert!(size[1] >= 0.2 * size[0], "a band, not a line: {size:?}");
+    }
+    let dots = c
+        .display
+        .iter()
+        .filter(|p| matches!(p, Prim::Circle { .. }))
+        .count();
+    assert_eq!(dots, 32, "every hit drawn in both panels");
+    texts_fit(&c);
+    in_frames(&c);
+}

@@ -61,8 +61,13 @@ pub(super) struct Panel {
 
 impl Panel {
     pub(super) fn fit(b: &Aabb, at: (f32, f32), size: (f32, f32)) -> Panel {
-        let extent =
-            DVec2::new(b.max.x - b.min.x, b.max.z - b.min.z).max(DVec2::splat(1e-9)) * 1.08;
+        // A mesh flat in x or z (a wall seen edge-on from above) still gets a band to draw
+        // its rays across: neither side under a fifth of the other.
+        let raw = DVec2::new(b.max.x - b.min.x, b.max.z - b.min.z);
+        let extent = raw
+            .max(DVec2::splat(raw.max_element() * 0.2))
+            .max(DVec2::splat(1e-9))
+            * 1.08;
         let scale = (size.0 as f64 / extent.x).min(size.1 as f64 / extent.y);
         // The frame hugs the root's box and its margin, centred across the space given.
         let fitted = ((extent.x * scale) as f32, (extent.y * scale) as f32);
