@@ -3,7 +3,7 @@
 
 use crate::error::{Error, Result};
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// Checks that `path` can be written before any work is done (folder exists, not a folder).
 pub fn check_writable(path: &Path, arg: &str) -> Result<()> {
@@ -180,6 +180,43 @@ pub fn wrong_extension(path: &Path, ext: &str, what: &str) -> Option<String> {
 pub fn create_folder(dir: &Path) -> Result<()> {
     std::fs::create_dir_all(dir)
         .map_err(|e| Error::io(dir, format!("cannot create the folder: {}", reason(&e))))
+}
+
+/// The folders made for an output not written yet (a course ini's `[IO] output`, whose
+/// folders are made before the render, as the course's program does): unless
+/// [`NewFolders::keep`] is called once the output is written, they are removed again when
+/// this is dropped, deepest first and only while empty, so that a refused, failed or
+/// interrupted command leaves no folder behind.
+#[must_use = "dropped at once, the folders are removed at once"]
+pub struct NewFolders(Vec<PathBuf>);
+
+impl NewFolders {
+    /// Creates `dir` and the folders above it ([`create_folder`]), noting those that did not
+    /// exist.
+    pub fn create(dir: &Path) -> Result<NewFolders> {
+        let missing: Vec<PathBuf> = dir
+            .ancestors()
+            .take_while(|p| !p.as_os_str().is_empty() && !p.exists())
+            .map(Path::to_path_buf)
+            .collect();
+        // Dropped on an error too: the folders made before it are removed.
+        let made = NewFolders(missing);
+        create_folder(dir)?;
+        Ok(made)
+    }
+
+    /// The output is written: the folders stay.
+    pub fn keep(mut self) {
+        self.0.clear();
+    }
+}
+
+impl Drop for NewFolders {
+    fn drop(&mut self) {
+        for dir in &self.0 {
+            let _ = std::fs::remove_dir(dir); // fails, and keeps it, unless empty
+        }
+    }
 }
 
 fn parent(path: &Path) -> &Path {

@@ -129,7 +129,8 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
     // Loading builds the meshes' BVHs: on the render's threads too.
     let loaded = threads.run(|| render_args.load_full(&args.scene))?;
     // A course ini names its output (created with its folders, as the course's program
-    // does); -o wins.
+    // does, and removed again if nothing is written); -o wins.
+    let mut folders = None;
     let out = match (&args.output, &loaded.output) {
         (None, Some(o)) => {
             // An AOV goes beside it: unit_cone-normal.png.
@@ -140,7 +141,7 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
                 o.with_file_name(format!("{stem}{suffix}.png"))
             };
             if let Some(dir) = o.parent().filter(|d| !d.as_os_str().is_empty()) {
-                crate::output::create_folder(dir)?;
+                folders = Some(crate::output::NewFolders::create(dir)?);
             }
             check_png(&o, "the ini's [IO] output")?;
             o
@@ -195,6 +196,9 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
             img.ok_or_else(|| Error::Other("the AOV render was stopped".into()))?
         };
         write_png(&out, &img.image)?;
+        if let Some(f) = folders {
+            f.keep();
+        }
         for line in &said {
             eprintln!("{line}");
         }
@@ -308,6 +312,9 @@ pub fn run(args: Args, stdout: &mut dyn std::io::Write) -> Result<()> {
         );
     }
     write_png(&out, &result.image.to_rgb8_for(&scene.render))?;
+    if let Some(f) = folders {
+        f.keep();
+    }
     for line in &said {
         eprintln!("{line}");
     }

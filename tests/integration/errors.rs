@@ -831,6 +831,15 @@ fn cases() -> Vec<Case> {
             vec!["argument --passes", "pass 11", "more than the limit of 65536"],
         ),
         c(
+            "a pass past the sample limit, for a course .ini whose output folders do not exist",
+            vec![
+                ("scene.json", obj(SPHERE)),
+                ("x.ini", b"[IO]\n    scene = scene.json\n    output = out/deep/x.png\n".to_vec()),
+            ],
+            vec!["render", "x.ini", "--passes", "11"],
+            vec!["argument --passes", "pass 11", "more than the limit of 65536"],
+        ),
+        c(
             "a time budget of no time",
             s(obj(SPHERE)),
             vec!["render", "scene.json", "--time-budget", "0"],
@@ -864,17 +873,19 @@ fn case_dir(i: usize) -> PathBuf {
     d
 }
 
-/// Every file under `dir` with its bytes, sorted (to prove nothing appeared or changed).
-fn snapshot(dir: &Path) -> Vec<(PathBuf, Vec<u8>)> {
+/// Every file under `dir` with its bytes, and every folder (`None`), sorted (to prove nothing
+/// appeared or changed).
+fn snapshot(dir: &Path) -> Vec<(PathBuf, Option<Vec<u8>>)> {
     let mut out = Vec::new();
     let mut stack = vec![dir.to_path_buf()];
     while let Some(d) = stack.pop() {
         for e in std::fs::read_dir(&d).unwrap() {
             let p = e.unwrap().path();
             if p.is_dir() {
+                out.push((p.clone(), None));
                 stack.push(p);
             } else {
-                out.push((p.clone(), std::fs::read(&p).unwrap()));
+                out.push((p.clone(), Some(std::fs::read(&p).unwrap())));
             }
         }
     }
@@ -923,7 +934,7 @@ fn run_cases() -> Vec<(String, String, String)> {
             problems.push("panicked".into());
         }
         if snapshot(&dir) != before {
-            problems.push("files changed: something was written".into());
+            problems.push("files or folders changed: something was written".into());
         }
         if !problems.is_empty() {
             failures.push(format!(
