@@ -177,14 +177,19 @@ pub(super) async fn bundle(axum::extract::State(state): St, RawQuery(raw): RawQu
         let (x, y) = q.pixel(s.camera.width, s.camera.height)?;
         // As `explain --sample K` checks it, when asked: against the samples the sampler plans
         // for the pixel, or, under the adaptive sampler, which decides while it traces, those
-        // the pixel's explanation traced (bounded as `/api/explain` is).
+        // the pixel's explanation traced (bounded as `/api/explain` is). A pixel too big to
+        // explain skips the check: the figure refuses the adaptive sampler whatever the sample.
         if asked {
             let traced = match s.render.sampler {
-                crate::scene::SamplerKind::Adaptive => explained(&s, x, y)?.own_samples(),
-                _ => 0,
+                crate::scene::SamplerKind::Adaptive => {
+                    explained(&s, x, y).ok().map(|e| e.own_samples())
+                }
+                _ => Some(0),
             };
-            crate::report::explain::check_sample(&s, (x, y), k, traced)
-                .map_err(|m| Error::arg("--sample", m))?;
+            if let Some(traced) = traced {
+                crate::report::explain::check_sample(&s, (x, y), k, traced)
+                    .map_err(|m| Error::arg("--sample", m))?;
+            }
         }
         let canvas = crate::viz::bundle::draw_within(&s, x, y, k, MAX_BUNDLE_PLAN)
             .map_err(|m| Error::arg("--bundle-diagram", m))?;

@@ -1205,6 +1205,23 @@ fn the_bundle_figure_is_the_clis() {
             "330,260",
             vec!["--sampler", "adaptive", "--spp", "4", "--sample", "0"],
         ),
+        // A pixel with more samples than the page explains: the figure's own refusal still.
+        (
+            "width=16&height=16&sampler=adaptive&spp=16384&index=3",
+            "8,8",
+            vec![
+                "--width",
+                "16",
+                "--height",
+                "16",
+                "--sampler",
+                "adaptive",
+                "--spp",
+                "16384",
+                "--sample",
+                "3",
+            ],
+        ),
     ] {
         let (x, y) = pixel.split_once(',').unwrap();
         let r = s.get(&format!("/api/bundle.png?x={x}&y={y}&{q}"));
