@@ -46,7 +46,7 @@ pub struct RenderArgs {
     pub accel: Option<String>,
     /// How camera rays walk the BVH: bundle (4×4 neighbouring rays together; the default: on
     /// no scene measured slower by more than 2 %, on most faster) or single (one at a time).
-    /// The same image either way.
+    /// The same image either way; only the work differs, which --stats and --aov cost show.
     #[arg(long, value_name = "single|bundle")]
     pub traversal: Option<String>,
     /// Turn off shadow rays.
