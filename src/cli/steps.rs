@@ -273,11 +273,12 @@ fn forward(args: &Args, scene: &crate::scene::Scene, out: &mut dyn std::io::Writ
     if args.photons == 0 || args.photons > 100_000_000 {
         return Err(Error::arg("--photons", "must be between 1 and 100000000"));
     }
-    let path = if is_png(&args.output) {
-        args.output.clone()
+    // A folder made for the figure is removed again if the figure is not written.
+    let (path, folders) = if is_png(&args.output) {
+        (args.output.clone(), None)
     } else {
-        crate::output::create_folder(&args.output)?;
-        args.output.join("forward.png")
+        let folders = crate::output::NewFolders::create(&args.output)?;
+        (args.output.join("forward.png"), Some(folders))
     };
     let settings = &scene.render;
     let (fwd, backward) = with_threads(args.threads, || {
@@ -296,6 +297,9 @@ fn forward(args: &Args, scene: &crate::scene::Scene, out: &mut dyn std::io::Writ
     let img = backward.image.to_rgb8_for(settings);
     crate::viz::forward::figure(&fwd, &img, rays.camera, rays.total, args.pupil)
         .write_png(&path)?;
+    if let Some(f) = folders {
+        f.keep();
+    }
     let n = &fwd.counts;
     let pct = |k: u64| 100.0 * k as f64 / n.photons.max(1) as f64;
     let text = format!(
