@@ -140,10 +140,13 @@ impl Labels {
     }
 }
 
+/// How many places [`around`] gives: one ring of [`around_rings`].
+pub const AROUND: usize = 8;
+
 /// Candidate label positions around a point: right, left, above, below, then the diagonals,
 /// `gap` pixels away.
 pub fn around(p: (f32, f32), gap: f32) -> Vec<((f32, f32), Anchor)> {
-    vec![
+    let ring: [_; AROUND] = [
         ((p.0 + gap, p.1), Anchor::Left),
         ((p.0 - gap, p.1), Anchor::Right),
         ((p.0, p.1 - gap - 4.0), Anchor::Center),
@@ -152,7 +155,8 @@ pub fn around(p: (f32, f32), gap: f32) -> Vec<((f32, f32), Anchor)> {
         ((p.0 - gap, p.1 - gap - 2.0), Anchor::Right),
         ((p.0 + gap, p.1 + gap + 2.0), Anchor::Left),
         ((p.0 - gap, p.1 + gap + 2.0), Anchor::Right),
-    ]
+    ];
+    ring.to_vec()
 }
 
 /// [`around`] at three distances: near first, then farther out.

@@ -422,3 +422,31 @@ fn the_eye_label_leaves_the_apex_of_the_beam_clear() {
         }
     }
 }
+
+/// In the book's figure (chapter 13) the walls' and mirrors' names sit inside the frame or
+/// wholly outside it, never across its edge ("wall 3", beside a wall near the frame's right
+/// edge, once broke the frame's line).
+#[test]
+fn the_segments_names_do_not_cross_the_frame() {
+    let c = draw(&beam_args(
+        "0,0",
+        "-0.6,1",
+        "1.3,1",
+        &["-0.7,1.4,-0.1,1.4", "-1,3.6,2,3.6", "3.2,1,3.2,3.4"],
+        &["0.6,1.7,1.4,2.3"],
+        1,
+    ));
+    let f = frame(&c);
+    let names: Vec<_> = labels(&c)
+        .into_iter()
+        .filter(|(t, _)| t.starts_with("wall ") || t.starts_with("mirror "))
+        .collect();
+    assert_eq!(names.len(), 4, "{names:?}");
+    for (t, b) in &names {
+        let within = b[0] >= f[0] && b[1] >= f[1] && b[2] <= f[2] && b[3] <= f[3];
+        assert!(
+            within || !overlaps(b, &f),
+            "{t:?} {b:?} crosses the frame {f:?}"
+        );
+    }
+}

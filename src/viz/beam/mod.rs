@@ -6,7 +6,7 @@
 //! of every other mark, except the first beam's, which are always numbered.
 
 use super::canvas::{Anchor, Canvas};
-use super::labels::{around_rings, Box2, Labels};
+use super::labels::{around_rings, text_box, Box2, Labels, AROUND};
 use super::style;
 use crate::accel::beam::{name, Beam, Piece, Segment};
 use crate::trace::RayKind;
@@ -183,11 +183,29 @@ pub fn figure(beam: &Beam, segments: &[Segment], pieces: &[Piece]) -> Canvas {
 
     // The labels, most needed first: names, the eye, the mirrored eyes, then the pieces'
     // numbers from the first beam down.
+    // A label may go outside the frame, but inside it first, and across its edge last:
+    // among all the candidates, or (`group`) among each run of that many (the rings around
+    // a point, so that a label does not leave its point for a place inside the frame).
+    let framed_first = |candidates: Vec<((f32, f32), Anchor)>, text: &str, group: usize| {
+        let mut ranked: Vec<_> = candidates.into_iter().enumerate().collect();
+        ranked.sort_by_key(|&(i, (at, anchor))| {
+            let b = text_box(at, text, 12.0, anchor);
+            let outside = b[2] <= x0 || b[0] >= x1 || b[3] <= y0 || b[1] >= y1;
+            let rank = match (inside_frame(&b), outside) {
+                (true, _) => 0,
+                (false, true) => 1,
+                (false, false) => 2,
+            };
+            (i / group, rank)
+        });
+        ranked.into_iter().map(|(_, c)| c).collect::<Vec<_>>()
+    };
     let mut jobs = Vec::new();
     for &(i, a, b, color) in &names {
+        let text = name(segments, i);
         jobs.push(Job {
-            candidates: beside(a, b, eye),
-            text: name(segments, i),
+            candidates: framed_first(beside(a, b, eye), &text, usize::MAX),
+            text,
             color,
             needed: true,
         });
@@ -199,9 +217,10 @@ pub fn figure(beam: &Beam, segments: &[Segment], pieces: &[Piece]) -> Canvas {
         needed: true,
     });
     for &(m, at) in &apexes {
+        let text = format!("eye mirrored in {}", name(segments, m));
         jobs.push(Job {
-            candidates: around_rings(at, 10.0),
-            text: format!("eye mirrored in {}", name(segments, m)),
+            candidates: framed_first(around_rings(at, 10.0), &text, AROUND),
+            text,
             color: style::muted(),
             needed: true,
         });
@@ -247,7 +266,9 @@ fn heading(c: &mut Canvas, segments: &[Segment], pieces: &[Piece], deepest: u32)
         Anchor::Left,
     );
     // Only what the figure shows: the mirrored eye is drawn for every first reflection.
-    let reflection = if deepest > 0 {
+    let reflection = if deepest > 1 {
+        "A mirror's piece is reflected: a new beam whose rays seem to come from the eye mirrored in the mirror (drawn for the first reflections)."
+    } else if deepest > 0 {
         "A mirror's piece is reflected: a new beam whose rays seem to come from the eye mirrored in the mirror (where the dashed lines meet)."
     } else if mirror_seen {
         "A mirror's piece would be reflected as a new beam; --depth 0 follows no reflection."
