@@ -157,6 +157,9 @@ pub fn check_extension(path: &Path, arg: &str, ext: &str, what: &str) -> Result<
 /// What is wrong with `path` as the name of a file of `what` with extension `ext`, if
 /// anything (a course ini's `[IO] output` is checked with it too).
 pub fn wrong_extension(path: &Path, ext: &str, what: &str) -> Option<String> {
+    if path.as_os_str().is_empty() {
+        return Some(format!("no file name given: give one, e.g. out.{ext}"));
+    }
     let name = path.file_name().map(|n| n.to_string_lossy().to_string());
     match path
         .extension()

@@ -747,6 +747,24 @@ fn cases() -> Vec<Case> {
             vec!["x.ini: line 4:5:", "unknown key \"shadow\" in [Feature]", "did you mean \"shadows\"?"],
         ),
         c(
+            "a course .ini whose output is empty",
+            vec![
+                ("scene.json", obj(SPHERE)),
+                ("x.ini", b"[IO]\n    scene = scene.json\n    output = \n".to_vec()),
+            ],
+            render("x.ini"),
+            vec!["x.ini: line 3:13: [IO] output: no file name given: give one, e.g. out.png"],
+        ),
+        c(
+            "a course .ini's whole number too large for any key",
+            vec![
+                ("scene.json", obj(SPHERE)),
+                ("x.ini", b"[IO]\n    scene = scene.json\n[Settings]\n    maximum-recursive-depth = 99999999999\n".to_vec()),
+            ],
+            render("x.ini"),
+            vec!["x.ini: line 4:31: [Settings] maximum-recursive-depth: 99999999999 is too large a number (more than 4294967295)"],
+        ),
+        c(
             "a course .ini whose scene is not there",
             vec![("x.ini", b"[IO]\n    scene = scenefiles/a.json\n".to_vec())],
             render("x.ini"),

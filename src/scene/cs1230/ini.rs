@@ -255,10 +255,13 @@ impl Ini {
 
     fn uint(&self, e: &Entry) -> Result<u32> {
         e.value.parse::<u32>().map_err(|_| {
-            self.err(
-                e,
-                format!("expected a whole number ≥ 0, found {}", shown(&e.value)),
-            )
+            // A whole number too big is still a whole number: say what is wrong with it.
+            let digits = !e.value.is_empty() && e.value.bytes().all(|c| c.is_ascii_digit());
+            let msg = match digits {
+                true => format!("{} is too large a number (more than {})", e.value, u32::MAX),
+                false => format!("expected a whole number ≥ 0, found {}", shown(&e.value)),
+            };
+            self.err(e, msg)
         })
     }
 
