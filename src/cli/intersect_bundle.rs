@@ -64,10 +64,13 @@ pub fn bundle_and_box(args: &Args, to: &str) -> Result<(Vec<Ray>, Aabb)> {
         direction("--bundle-to", bounded_vec3("--bundle-to", to)?)?,
     );
     let (min, max) = box_corners(args)?;
+    // The first and last rays exactly as given (their signs too: -0 in a direction picks the
+    // slab test's far side), those between spread evenly.
     let rays: Vec<Ray> = (0..n)
-        .map(|i| {
-            let s = i as f64 / (n - 1) as f64;
-            Ray::new(origin, first + (last - first) * s)
+        .map(|i| match i {
+            0 => Ray::new(origin, first),
+            _ if i == n - 1 => Ray::new(origin, last),
+            _ => Ray::new(origin, first + (last - first) * (i as f64 / (n - 1) as f64)),
         })
         .collect();
     if let Some(i) = rays.iter().position(|r| r.dir.length() < MIN_LENGTH) {

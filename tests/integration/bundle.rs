@@ -744,6 +744,21 @@ fn intersect_box_bundle_to_reports_the_verdicts() {
     assert_eq!(mixed["sign_coherent"], false);
     assert!(mixed["interval_test"]["kept"].is_null());
     assert_eq!(lanes(&mixed), vec![None; 16]);
+    // The first and last rays are --dir and --bundle-to exactly, a -0 too, which puts that
+    // ray on the other side of x's sign from the rest (as the walk splits it).
+    let signed = json(&[
+        "--origin",
+        "0,0,-5",
+        "--dir",
+        "-0,0,1",
+        "--bundle-to",
+        "0.3,0.2,1",
+        "--rays",
+        "2",
+    ]);
+    let first = &signed["rays"][0]["direction"][0];
+    assert!(first.as_f64().unwrap().is_sign_negative(), "{signed}");
+    assert_eq!(signed["sign_coherent"], false, "{signed}");
 }
 
 /// `rtlab beam`: Heckbert and Hanrahan's beam in the plane. The pieces it prints tile the
