@@ -180,7 +180,7 @@ pub fn wrong_extension(path: &Path, ext: &str, what: &str) -> Option<String> {
 }
 
 /// Creates `dir` and the folders above it, failing with a message in words.
-pub fn create_folder(dir: &Path) -> Result<()> {
+fn create_folder(dir: &Path) -> Result<()> {
     std::fs::create_dir_all(dir)
         .map_err(|e| Error::io(dir, format!("cannot create the folder: {}", reason(&e))))
 }
@@ -194,17 +194,24 @@ pub fn create_folder(dir: &Path) -> Result<()> {
 pub struct NewFolders(Vec<PathBuf>);
 
 impl NewFolders {
-    /// Creates `dir` and the folders above it ([`create_folder`]), noting those that did not
-    /// exist.
+    /// Creates `dir` and the folders above it, one at a time along the path as written,
+    /// noting those it made itself (not those that existed, or that another process made
+    /// meanwhile, or that a `..` leads back to). On an error, the message is
+    /// [`create_folder`]'s, and the folders made so far are removed.
     pub fn create(dir: &Path) -> Result<NewFolders> {
-        let missing: Vec<PathBuf> = dir
-            .ancestors()
-            .take_while(|p| !p.as_os_str().is_empty() && !p.exists())
-            .map(Path::to_path_buf)
-            .collect();
-        // Dropped on an error too: the folders made before it are removed.
-        let made = NewFolders(missing);
-        create_folder(dir)?;
+        let mut made = NewFolders(Vec::new());
+        let mut at = PathBuf::new();
+        for part in dir.components() {
+            at.push(part);
+            match std::fs::create_dir(&at) {
+                Ok(()) => made.0.insert(0, at.clone()), // deepest first
+                Err(_) if at.is_dir() => {}
+                Err(_) => {
+                    create_folder(dir)?; // its message; it fails where this did
+                    break;
+                }
+            }
+        }
         Ok(made)
     }
 
@@ -297,4 +304,50 @@ pub fn png_bytes(img: &image::RgbImage) -> std::result::Result<Vec<u8>, String> 
 /// Refuses output names whose extension rtlab cannot write.
 pub fn check_png(path: &Path, arg: &str) -> Result<()> {
     check_extension(path, arg, "png", "images")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::NewFolders;
+
+    #[test]
+    fn new_folders_are_removed_unless_kept_and_only_those_made() {
+        let root = tempfile::tempdir().unwrap();
+        let r = root.path();
+        // Dropped: every folder it made goes, deepest first.
+        drop(NewFolders::create(&r.join("a/b/c")).unwrap());
+        assert!(!r.join("a").exists());
+        // Kept: they stay.
+        NewFolders::create(&r.join("a/b/c")).unwrap().keep();
+        assert!(r.join("a/b/c").is_dir());
+        // A folder that existed stays, only the new one below it goes.
+        drop(NewFolders::create(&r.join("a/b/c/d")).unwrap());
+        assert!(r.join("a/b/c").is_dir() && !r.join("a/b/c/d").exists());
+        // A `..` leading back to a folder that existed: that folder is not the command's.
+        std::fs::create_dir(r.join("keep")).unwrap();
+        drop(NewFolders::create(&r.join("new/../keep")).unwrap());
+        assert!(r.join("keep").is_dir() && !r.join("new").exists());
+        // A folder that holds something by the time it is dropped stays.
+        let f = NewFolders::create(&r.join("full")).unwrap();
+        std::fs::write(r.join("full/x"), b"x").unwrap();
+        drop(f);
+        assert!(r.join("full/x").exists());
+    }
+
+    #[test]
+    fn a_file_in_the_way_is_create_folders_error_and_leaves_nothing() {
+        let root = tempfile::tempdir().unwrap();
+        let r = root.path();
+        std::fs::write(r.join("file"), b"x").unwrap();
+        // "a" is made, then the file stops the path: create_folder's message, naming the
+        // path, and "a" is removed again.
+        let path = r.join("a/../file/deeper");
+        let e = NewFolders::create(&path).err().expect("a file in the way");
+        let said = e.to_string();
+        assert!(
+            said.starts_with(&format!("{}: cannot create the folder: ", path.display())),
+            "{said}"
+        );
+        assert!(!r.join("a").exists());
+    }
 }

@@ -180,7 +180,8 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
         text += &format!("wrote {}\n", args.output.display());
     } else {
         let dir = &args.output;
-        crate::output::create_folder(dir)?;
+        // A folder made here is removed again if no frame is written.
+        let folders = crate::output::NewFolders::create(dir)?;
         // Every file made in memory and every name checked before the first is written, so a
         // name that cannot be written (a folder in the way) leaves the folder as it was.
         let mut files = Vec::new();
@@ -214,6 +215,7 @@ pub fn run(args: Args, out: &mut dyn std::io::Write) -> Result<()> {
         for (bytes, path) in &files {
             write_atomic(path, bytes)?;
         }
+        folders.keep();
         text += &format!(
             "wrote {} frame{} to {}\n",
             frames.len(),
