@@ -64,13 +64,17 @@ pub fn bundle_and_box(args: &Args, to: &str) -> Result<(Vec<Ray>, Aabb)> {
         direction("--bundle-to", bounded_vec3("--bundle-to", to)?)?,
     );
     let (min, max) = box_corners(args)?;
-    // The first and last rays exactly as given (their signs too: -0 in a direction picks the
-    // slab test's far side), those between spread evenly.
+    // The first and last rays exactly as given, those between spread evenly as weights of
+    // the two, so that a signed zero both share is every ray's (-0 in a direction picks the
+    // slab test's far side, and splits a bundle as the walk does).
     let rays: Vec<Ray> = (0..n)
         .map(|i| match i {
             0 => Ray::new(origin, first),
             _ if i == n - 1 => Ray::new(origin, last),
-            _ => Ray::new(origin, first + (last - first) * (i as f64 / (n - 1) as f64)),
+            _ => {
+                let s = i as f64 / (n - 1) as f64;
+                Ray::new(origin, first * (1.0 - s) + last * s)
+            }
         })
         .collect();
     if let Some(i) = rays.iter().position(|r| r.dir.length() < MIN_LENGTH) {

@@ -759,6 +759,20 @@ fn intersect_box_bundle_to_reports_the_verdicts() {
     let first = &signed["rays"][0]["direction"][0];
     assert!(first.as_f64().unwrap().is_sign_negative(), "{signed}");
     assert_eq!(signed["sign_coherent"], false, "{signed}");
+    // A -0 both ends share is every ray's, the rays between too: one sign, one bundle.
+    let shared = json(&[
+        "--origin",
+        "0,0,-5",
+        "--dir",
+        "-0,0.1,1",
+        "--bundle-to",
+        "-0,0.3,1",
+    ]);
+    for r in shared["rays"].as_array().unwrap() {
+        let x = r["direction"][0].as_f64().unwrap();
+        assert!(x == 0.0 && x.is_sign_negative(), "{r}");
+    }
+    assert_eq!(shared["sign_coherent"], true, "{shared}");
 }
 
 /// `rtlab beam`: Heckbert and Hanrahan's beam in the plane. The pieces it prints tile the
