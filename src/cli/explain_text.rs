@@ -32,7 +32,7 @@ fn budget_of(n: &RayNode) -> (usize, usize) {
 pub fn text(scene: &Scene, e: &Explanation) -> String {
     let mut o = String::new();
     let r = &scene.render;
-    let own = e.samples.iter().filter(|s| s.pixel == e.pixel).count();
+    let own = e.own_samples();
     let spp = match r.sampler {
         crate::scene::SamplerKind::Corners => {
             "5 samples per pixel (the centre + 4 corners shared with the neighbours)".to_string()

@@ -449,4 +449,16 @@ fn the_segments_names_do_not_cross_the_frame() {
             "{t:?} {b:?} crosses the frame {f:?}"
         );
     }
+    // The mirrored eye's label stays by its dot (within the rings of places around it),
+    // rather than wandering off into the frame.
+    let [apex] = apexes(&c)[..] else {
+        panic!("one mirrored eye")
+    };
+    let (_, b) = labels(&c)
+        .into_iter()
+        .find(|(t, _)| t == "eye mirrored in mirror 1")
+        .expect("the mirrored eye's label");
+    let dx = (b[0] - apex[0]).max(apex[0] - b[2]).max(0.0);
+    let dy = (b[1] - apex[1]).max(apex[1] - b[3]).max(0.0);
+    assert!(dx.hypot(dy) <= 16.0, "{b:?} is far from its dot {apex:?}");
 }
