@@ -197,7 +197,7 @@ impl NewFolders {
     /// Creates `dir` and the folders above it, one at a time along the path as written,
     /// noting those it made itself (not those that existed, or that another process made
     /// meanwhile, or that a `..` leads back to). On an error, the message is
-    /// [`create_folder`]'s, and the folders made so far are removed.
+    /// the one `create_dir_all` gives, and the folders made so far are removed.
     pub fn create(dir: &Path) -> Result<NewFolders> {
         let mut made = NewFolders(Vec::new());
         let mut at = PathBuf::new();
