@@ -135,7 +135,8 @@ pub(super) fn box_in(b: &Box2, poly: &[(f32, f32)]) -> bool {
 }
 
 /// Candidate places for a segment's name beside it (pixels `a` to `b`): at its middle, then
-/// further along, on the side away from the eye first.
+/// further along, on the side away from the eye first; then the same further out (a
+/// slanted segment's name close by can touch it at a corner of its box).
 pub(super) fn beside(a: (f32, f32), b: (f32, f32), eye: (f32, f32)) -> Vec<((f32, f32), Anchor)> {
     let (dx, dy) = (b.0 - a.0, b.1 - a.1);
     let len = dx.hypot(dy).max(1e-3);
@@ -145,17 +146,19 @@ pub(super) fn beside(a: (f32, f32), b: (f32, f32), eye: (f32, f32)) -> Vec<((f32
         (nx, ny) = (-nx, -ny);
     }
     let mut out = Vec::new();
-    for side in [1.0f32, -1.0] {
-        for f in [0.5f32, 0.35, 0.65, 0.2, 0.8, 0.08, 0.92] {
-            let m = (a.0 + dx * f, a.1 + dy * f);
-            let (ox, oy) = (nx * side, ny * side);
-            let anchor = match ox {
-                x if x > 0.35 => Anchor::Left,
-                x if x < -0.35 => Anchor::Right,
-                _ => Anchor::Center,
-            };
-            let gap = if anchor == Anchor::Center { 14.0 } else { 9.0 };
-            out.push(((m.0 + ox * gap, m.1 + oy * gap), anchor));
+    for further in [0.0f32, 8.0, 16.0] {
+        for side in [1.0f32, -1.0] {
+            for f in [0.5f32, 0.35, 0.65, 0.2, 0.8, 0.08, 0.92] {
+                let m = (a.0 + dx * f, a.1 + dy * f);
+                let (ox, oy) = (nx * side, ny * side);
+                let anchor = match ox {
+                    x if x > 0.35 => Anchor::Left,
+                    x if x < -0.35 => Anchor::Right,
+                    _ => Anchor::Center,
+                };
+                let gap = if anchor == Anchor::Center { 14.0 } else { 9.0 } + further;
+                out.push(((m.0 + ox * gap, m.1 + oy * gap), anchor));
+            }
         }
     }
     out

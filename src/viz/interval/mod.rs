@@ -211,9 +211,19 @@ fn space(c: &mut Canvas, rays: &[Ray], w: &BundleWorking, bounds: Option<(f32, f
     // The bounds: where each ray is at t = bound, joined across the bundle; left out when
     // some ray is out of the panel by then, or when the front is a point (t = 0 at a
     // shared P: the right panel shows it).
+    // And off the box's edges: a plate on an edge cuts the box open.
     let mut off_rays = labels.clone();
     for (a, b) in drawn.iter().flatten() {
         off_rays.block_segment(pt(*a), pt(*b), 2.0);
+    }
+    let edges = [
+        corner,
+        DVec2::new(far.x, corner.y),
+        far,
+        DVec2::new(corner.x, far.y),
+    ];
+    for i in 0..4 {
+        off_rays.block_segment(pt(edges[i]), pt(edges[(i + 1) % 4]), 1.5);
     }
     if let Some((entry, exit)) = bounds {
         for (t, name) in [(entry, "entry bound"), (exit, "exit bound")] {
@@ -262,9 +272,18 @@ fn space(c: &mut Canvas, rays: &[Ray], w: &BundleWorking, bounds: Option<(f32, f
                 (pt(low + DVec2::new(-6.0, 12.0)), Anchor::Right),
                 (pt(top + DVec2::new(-6.0, -12.0)), Anchor::Right),
                 (pt(top + DVec2::new(6.0, -12.0)), Anchor::Left),
-                (pt(top + DVec2::new(0.0, -24.0)), Anchor::Center),
-                (pt(low + DVec2::new(0.0, 24.0)), Anchor::Center),
             ]);
+            // Further from the front, a step at a time, when the rays crowd its ends.
+            for step in [24.0, 36.0] {
+                apart.extend([
+                    (pt(top + DVec2::new(0.0, -step)), Anchor::Center),
+                    (pt(low + DVec2::new(0.0, step)), Anchor::Center),
+                    (pt(low + DVec2::new(-6.0, step)), Anchor::Right),
+                    (pt(low + DVec2::new(6.0, step)), Anchor::Left),
+                    (pt(top + DVec2::new(-6.0, -step)), Anchor::Right),
+                    (pt(top + DVec2::new(6.0, -step)), Anchor::Left),
+                ]);
+            }
             let text = format!("t = {name}");
             let pick = off_rays
                 .reserve(&apart, &text, 11.0, false)
