@@ -328,6 +328,46 @@ fn scene_teapot() -> rtlab::scene::Scene {
     scene("scenes/teapot.json")
 }
 
+/// How many frames (the rectangles drawn in the grid colour) `c` draws.
+fn frames(c: &rtlab::viz::canvas::Canvas) -> usize {
+    c.display
+        .iter()
+        .filter(|p| matches!(p, Prim::Rect { stroke: Some(s), fill: None, .. } if s == "#e4e4ea"))
+        .count()
+}
+
+/// The book's bundle (the teapot at 48×36, pixel (22, 17)) opens two of the root's
+/// children: panel 1 letters them A and B, and panel 2 draws each on its own, in a frame
+/// of its own, captioned with its children's counts, which add up to the panel's heading.
+#[test]
+fn panel_two_draws_each_box_opened_on_its_own() {
+    let mut small = scene_teapot();
+    small.camera.update_size(48, 36);
+    let c = rtlab::viz::bundle::draw(&small, 22, 17, 0).unwrap();
+    let texts = c.texts();
+    let all = texts.join("\n");
+    assert_eq!(frames(&c), 3, "panel 1, and A and B: {all}");
+    assert!(
+        texts.iter().any(|t| *t == "A") && texts.iter().any(|t| *t == "B"),
+        "{all}"
+    );
+    let counts = |prefix: &str| -> (usize, usize) {
+        let t = texts
+            .iter()
+            .find(|t| t.starts_with(prefix))
+            .unwrap_or_else(|| panic!("no {prefix:?} in {all}"));
+        let n: Vec<usize> = t
+            .split(|ch: char| !ch.is_ascii_digit())
+            .filter_map(|w| w.parse().ok())
+            .collect();
+        (n[n.len() - 2], n[n.len() - 1])
+    };
+    let (a, b) = (counts("A: "), counts("B: "));
+    let heading = counts("2. One level down, in the boxes opened: ");
+    assert_eq!((a.0 + b.0, a.1 + b.1), heading, "{all}");
+    assert_eq!(a.0 + a.1, 4, "a node has four children: {all}");
+}
+
 /// Every line, dot and frustum of `c` lies inside one of its panel frames (the rectangles
 /// drawn in the grid colour), up to half a line's width.
 fn in_frames(c: &rtlab::viz::canvas::Canvas) {
@@ -344,7 +384,10 @@ fn in_frames(c: &rtlab::viz::canvas::Canvas) {
             _ => None,
         })
         .collect();
-    assert_eq!(frames.len(), 2, "one frame per panel");
+    assert!(
+        frames.len() >= 2,
+        "a frame per panel, and per box panel 2 zooms in on"
+    );
     let inside = |p: [f32; 2], slack: f32| {
         frames.iter().any(|(min, size)| {
             p[0] >= min[0] - slack
@@ -533,7 +576,11 @@ fn each_panel_shades_the_frustum_around_every_ray() {
                 _ => None,
             })
             .collect();
-        assert_eq!(frustums.len(), 2, "one frustum per panel at ({x}, {y})");
+        assert_eq!(
+            frustums.len(),
+            frames(&c),
+            "one frustum per frame (panel 1, and each box panel 2 zooms in on) at ({x}, {y})"
+        );
         // Inside a convex polygon: on one side of every edge (either winding), within `slack`.
         let inside = |poly: &[[f32; 2]], p: [f32; 2], slack: f32| {
             let sides: Vec<f32> = (0..poly.len())

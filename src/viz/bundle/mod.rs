@@ -12,9 +12,11 @@ use crate::scene::Scene;
 use crate::shapes::Shape;
 use glam::DVec3;
 
+mod opened;
 mod panel;
 mod words;
-use panel::{culled_color, entered_fill, frustum_fill, opened_color, Panel};
+use opened::{draw_zoomed, letter_boxes};
+use panel::{culled_color, entered_fill, frustum_fill, Panel};
 use words::{coming_from, opened_at, pixels_caption, plural, unopened, wrap};
 
 /// Figure size in pixels.
@@ -212,12 +214,14 @@ pub fn draw_within(scene: &Scene, x: u32, y: u32, k: u32, max_plan: u64) -> Resu
 
     // The footer, wrapped to the width; the panels end above it.
     let slab_tests = work.ray_nodes.iter().sum::<u32>() as usize;
-    // Panel 2 outlines the boxes opened above it only when there are some.
-    let parents = if opened_at(&tested, &depth, nodes, 0).is_empty() {
+    // Panel 2 shows the boxes opened in panel 1, each on its own, when there are some.
+    let opened = opened_at(&tested, &depth, nodes, 0);
+    let parents = if opened.is_empty() {
         ""
     } else {
-        " Dark grey (panel 2): the boxes the bundle opened one level up, whose children the \
-         panel shows, each drawn a little inside its edges so that shared edges show twice."
+        " Panel 2: each box the bundle opened (lettered in panel 1) on its own frame, \
+         outlined dark grey, its children drawn a little inside their edges so that shared \
+         edges show twice."
     };
     let footer = [
         format!(
@@ -243,7 +247,6 @@ pub fn draw_within(scene: &Scene, x: u32, y: u32, k: u32, max_plan: u64) -> Resu
     for (level, (heading, note)) in headings.iter().enumerate() {
         let x0 = SIDE_MARGIN + level as f32 * (panel_w + GAP);
         let view = Panel::fit(&b, (x0, top + drop), (panel_w, H - top - drop - bottom));
-        c.rect(view.at, view.size, Some((style::grid(), 1.0)), None);
         c.text(
             (x0, top + 8.0),
             heading,
@@ -260,6 +263,14 @@ pub fn draw_within(scene: &Scene, x: u32, y: u32, k: u32, max_plan: u64) -> Resu
                 Anchor::Left,
             );
         }
+        if level > 0 && !opened.is_empty() {
+            // The boxes opened one level up, each zoomed in its own part of the panel.
+            let area = ((x0, top + drop), (panel_w, H - top - drop - bottom));
+            let inset = CHILD_INSET;
+            draw_zoomed(&mut c, area, &opened, &tested, nodes, &rays, &hits, inset);
+            continue;
+        }
+        c.rect(view.at, view.size, Some((style::grid(), 1.0)), None);
         view.outline(&mut c, &b, style::muted(), 1.2, false);
         if level == 0 {
             let (bx, by) = view.map(DVec3::new(b.min.x, 0.0, b.min.z));
@@ -282,22 +293,13 @@ pub fn draw_within(scene: &Scene, x: u32, y: u32, k: u32, max_plan: u64) -> Resu
                 }
             }
         }
-        // Over them, the boxes opened one level up (whose children this panel shows): a
-        // child often shares an edge with its parent, so drawn underneath they would hide.
-        if level > 0 {
-            for (node, lane) in opened_at(&tested, &depth, nodes, level - 1) {
-                view.outline(
-                    &mut c,
-                    &nodes[node].bounds(lane),
-                    opened_color(),
-                    2.2,
-                    false,
-                );
-            }
-        }
         // Under the rays, the bundle's frustum: the region of the panel its rays sweep.
         view.frustum(&mut c, &rays, &b);
-        if view.rays(&mut c, &rays, &hits, &b) == 0 {
+        let crossed = view.rays(&mut c, &rays, &hits, &b);
+        if level == 0 {
+            letter_boxes(&mut c, &view, &opened, nodes);
+        }
+        if crossed == 0 {
             // Nothing of the bundle in the panel: say where it went rather than leave it blank.
             let why = "No ray of the bundle crosses this view: seen from above, all its rays \
                        pass beside the mesh's box, so every one misses it.";

@@ -80,6 +80,11 @@ impl Panel {
         }
     }
 
+    /// Pixels per object unit.
+    pub(super) fn scale(&self) -> f64 {
+        self.scale
+    }
+
     pub(super) fn map(&self, p: DVec3) -> (f32, f32) {
         (
             (self.at.0 as f64 + self.size.0 as f64 * 0.5 + (p.x - self.centre.x) * self.scale)
