@@ -259,7 +259,8 @@ impl<'r> RayBundle<'r> {
     // ANCHOR_END: interval_test
 
     // ANCHOR: lane_test
-    /// The lane test: box `lane` of the node against all sixteen rays, each within its own
+    /// The lane test: the node's box in child slot `slot` (0 to 3) against all sixteen
+    /// rays, each within its own
     /// [t_min, t_max]. Bit i is exactly what ray i's own slab test ([`Node::enter`]) says
     /// of that box: the same operations in the same order, one lane per ray. (`SHARED`:
     /// every ray starts at the same point, so the plane minus the origin is one number.)
@@ -269,7 +270,7 @@ impl<'r> RayBundle<'r> {
         &self,
         w: W,
         nd: &Node,
-        lane: usize,
+        slot: usize,
         t_min: f32,
         t_max: W::F,
         rays: u32,
@@ -278,7 +279,7 @@ impl<'r> RayBundle<'r> {
         let mut far = t_max;
         for k in 0..3 {
             let (e, x) = (self.neg[k] as usize, !self.neg[k] as usize);
-            let (entry, exit) = (nd.planes[e][k][lane], nd.planes[x][k][lane]);
+            let (entry, exit) = (nd.planes[e][k][slot], nd.planes[x][k][slot]);
             let inv = w.load(&self.inv[k]);
             let (t_in, t_out) = if SHARED {
                 let (o_in, o_out) = if self.neg[k] {

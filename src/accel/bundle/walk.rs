@@ -83,21 +83,22 @@ impl Bvh {
             work.opened += 1;
             count(&mut work.ray_nodes, mask);
             let nd = &self.nodes[node];
-            let lanes = b.interval_enter(nd, t_min32, |_, _, _| {});
+            // The child slots whose boxes pass the interval test, bit by bit.
+            let slots = b.interval_enter(nd, t_min32, |_, _, _| {});
             // The children some ray enters, nearest last, to be pushed in that order.
             let mut order = [(0.0f32, 0usize, 0u32); WIDTH];
             let mut n = 0;
-            for lane in 0..WIDTH {
-                let (rays, near) = if lanes >> lane & 1 == 1 {
-                    b.lane_enter::<W, SHARED>(w, nd, lane, t_min32, w.load(&t_max32), mask)
+            for slot in 0..WIDTH {
+                let (rays, near) = if slots >> slot & 1 == 1 {
+                    b.lane_enter::<W, SHARED>(w, nd, slot, t_min32, w.load(&t_max32), mask)
                 } else {
                     (0, 0.0)
                 };
-                if L::SEES && !nd.is_empty(lane) {
-                    leaf.seen(node, lane, rays);
+                if L::SEES && !nd.is_empty(slot) {
+                    leaf.seen(node, slot, rays);
                 }
                 if rays != 0 {
-                    let item = (near, lane, rays);
+                    let item = (near, slot, rays);
                     let mut j = n;
                     while j > 0 && order[j - 1].0 < item.0 {
                         order[j] = order[j - 1];
@@ -107,8 +108,8 @@ impl Bvh {
                     n += 1;
                 }
             }
-            for &(t_first, lane, rays) in &order[..n] {
-                let (child, count) = (nd.child[lane] as usize, nd.count[lane] as usize);
+            for &(t_first, slot, rays) in &order[..n] {
+                let (child, count) = (nd.child[slot] as usize, nd.count[slot] as usize);
                 if count == 0 {
                     prefetch(std::slice::from_ref(&self.nodes[child]));
                 } else {
@@ -251,14 +252,14 @@ impl Bvh {
             } else {
                 work.opened += 1;
                 let nd = &self.nodes[child as usize];
-                let lanes = b.interval_enter(nd, t_min32, |_, _, _| {});
-                for lane in 0..WIDTH {
-                    if lanes >> lane & 1 == 1 {
+                let slots = b.interval_enter(nd, t_min32, |_, _, _| {});
+                for slot in 0..WIDTH {
+                    if slots >> slot & 1 == 1 {
                         let t_max = w.load(&t_max32);
                         let (entered, _) =
-                            b.lane_enter::<W, SHARED>(w, nd, lane, t_min32, t_max, rays);
+                            b.lane_enter::<W, SHARED>(w, nd, slot, t_min32, t_max, rays);
                         if entered != 0 {
-                            let (child, count) = (nd.child[lane], nd.count[lane]);
+                            let (child, count) = (nd.child[slot], nd.count[slot]);
                             if count == 0 {
                                 prefetch(std::slice::from_ref(&self.nodes[child as usize]));
                             }
