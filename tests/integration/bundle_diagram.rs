@@ -347,10 +347,7 @@ fn panel_two_draws_each_box_opened_on_its_own() {
     let texts = c.texts();
     let all = texts.join("\n");
     assert_eq!(frames(&c), 3, "panel 1, and A and B: {all}");
-    assert!(
-        texts.iter().any(|t| *t == "A") && texts.iter().any(|t| *t == "B"),
-        "{all}"
-    );
+    assert!(texts.contains(&"A") && texts.contains(&"B"), "{all}");
     let counts = |prefix: &str| -> (usize, usize) {
         let t = texts
             .iter()
