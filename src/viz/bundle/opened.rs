@@ -108,6 +108,9 @@ pub(super) fn draw_zoomed(
             (cell.0, cell.1 - CAPTION),
         );
         c.rect(view.at, view.size, Some((style::grid(), 1.0)), None);
+        // The box first, under its children: a child as big as its box (they often are)
+        // shows its own edge just inside the box's.
+        view.outline(c, &parent, opened_color(), 2.2, false);
         for want in [false, true] {
             for &(n, l, mask) in &children {
                 if (mask != 0) == want {
@@ -115,7 +118,6 @@ pub(super) fn draw_zoomed(
                 }
             }
         }
-        view.outline(c, &parent, opened_color(), 2.2, false);
         view.frustum(c, rays, &parent);
         view.rays(c, rays, hits, &parent);
     }
