@@ -365,6 +365,79 @@ fn panel_two_draws_each_box_opened_on_its_own() {
     assert_eq!(a.0 + a.1, 4, "a node has four children: {all}");
 }
 
+/// A soup of small triangles in a cube: the root's children overlap, or coincide seen from
+/// above (split along y), yet panel 1 shows the letter of every box panel 2 draws, no two
+/// letters and not the root's name on top of each other; and a camera looking straight
+/// down says its rays come from above, not from a side.
+#[test]
+fn every_opened_box_is_lettered_apart_in_panel_one() {
+    let obj = tmp("bundle-soup.obj");
+    let mut text = String::new();
+    let mut seed = 12345u64;
+    let mut next = || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    };
+    for _ in 0..3000 {
+        let c = [next(), next(), next()];
+        for _ in 0..3 {
+            let v: Vec<f64> = c.iter().map(|x| x + 0.08 * next()).collect();
+            text += &format!("v {} {} {}\n", v[0], v[1], v[2]);
+        }
+    }
+    for f in 0..3000 {
+        text += &format!("f {} {} {}\n", 3 * f + 1, 3 * f + 2, 3 * f + 3);
+    }
+    std::fs::write(&obj, text).unwrap();
+    for (name, position) in [("side", [0.0, 0.8, 4.0]), ("down", [0.0, 4.0, 0.0001])] {
+        let json = serde_json::json!({
+            "camera": {"position": position, "look_at": [0, 0, 0], "fov_y": 40,
+                       "width": 64, "height": 48, "up": [0, 0, -1]},
+            "objects": [{"shape": "mesh", "file": obj}]
+        });
+        let file = tmp(&format!("bundle-soup-{name}.json"));
+        std::fs::write(&file, json.to_string()).unwrap();
+        let scene = rtlab::scene::Scene::load(&file).unwrap();
+        let c = rtlab::viz::bundle::draw(&scene, 32, 24, 0).unwrap();
+        let all = c.texts().join("\n");
+        let drawn = drawn_texts(&c);
+        let captions: Vec<String> = drawn
+            .iter()
+            .filter(|t| t.0.len() > 3 && t.0.as_bytes()[1] == b':' && t.0.contains(" entered, "))
+            .map(|t| t.0[..1].to_string())
+            .collect();
+        assert!(
+            captions.len() >= 2,
+            "{name}: panel 2 draws two boxes or more: {all}"
+        );
+        let boxes: Vec<(String, [f32; 4])> = drawn
+            .iter()
+            .filter(|t| t.0 == "root" || captions.contains(&t.0))
+            .map(|(t, at, size, anchor)| {
+                let b = rtlab::viz::labels::text_box((at[0], at[1]), t, *size, *anchor);
+                (t.clone(), b)
+            })
+            .collect();
+        for letter in &captions {
+            assert!(
+                boxes.iter().any(|(t, _)| t == letter),
+                "{name}: {letter} is in panel 2 but not in panel 1: {all}"
+            );
+        }
+        for (i, (t, a)) in boxes.iter().enumerate() {
+            for (u, b) in &boxes[i + 1..] {
+                let apart = a[2] <= b[0] || b[2] <= a[0] || a[3] <= b[1] || b[3] <= a[1];
+                assert!(apart, "{name}: {t:?} {a:?} overlaps {u:?} {b:?}");
+            }
+        }
+        let from_above =
+            all.contains("the rays come from the camera (above the figure, looking down)");
+        assert_eq!(from_above, name == "down", "{name}: {all}");
+    }
+}
+
 /// Every line, dot and frustum of `c` lies inside one of its panel frames (the rectangles
 /// drawn in the grid colour), up to half a line's width.
 fn in_frames(c: &rtlab::viz::canvas::Canvas) {

@@ -272,16 +272,12 @@ pub fn draw_within(scene: &Scene, x: u32, y: u32, k: u32, max_plan: u64) -> Resu
         }
         c.rect(view.at, view.size, Some((style::grid(), 1.0)), None);
         view.outline(&mut c, &b, style::muted(), 1.2, false);
-        if level == 0 {
+        // The root's name, on a pale backing (the boxes' edges often run through it).
+        let root_label = (level == 0).then(|| {
             let (bx, by) = view.map(DVec3::new(b.min.x, 0.0, b.min.z));
-            c.text(
-                (bx + 4.0, by + 12.0),
-                "root",
-                11.0,
-                style::muted(),
-                Anchor::Left,
-            );
-        }
+            let at = (bx + 4.0, by + 12.0);
+            crate::viz::labels::text_box(at, "root", 11.0, Anchor::Left)
+        });
         // Culled boxes first, under the entered ones. Below the root's children, each box
         // is drawn a little inside its edges, so that an edge it shares with its parent or a
         // sibling (most of them) still shows as two lines, and the boxes can be counted.
@@ -296,8 +292,13 @@ pub fn draw_within(scene: &Scene, x: u32, y: u32, k: u32, max_plan: u64) -> Resu
         // Under the rays, the bundle's frustum: the region of the panel its rays sweep.
         view.frustum(&mut c, &rays, &b);
         let crossed = view.rays(&mut c, &rays, &hits, &b);
-        if level == 0 {
-            letter_boxes(&mut c, &view, &opened, nodes);
+        if let Some(taken) = root_label {
+            let [x0, y0, x1, y1] = taken;
+            let plate = style::rgba(255, 255, 255, 225);
+            c.rect((x0, y0), (x1 - x0, y1 - y0), None, Some(plate));
+            let at = (x0 + 2.0, (y0 + y1) * 0.5);
+            c.text(at, "root", 11.0, style::muted(), Anchor::Left);
+            letter_boxes(&mut c, &view, &opened, nodes, taken);
         }
         if crossed == 0 {
             // Nothing of the bundle in the panel: say where it went rather than leave it blank.

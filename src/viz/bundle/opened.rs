@@ -4,6 +4,7 @@
 //! with the other box's children, and the boxes could not be counted.
 
 use super::super::canvas::{Anchor, Canvas};
+use super::super::labels::{text_box, Box2, Labels};
 use super::super::style;
 use super::panel::{opened_color, Panel};
 use crate::accel::Node;
@@ -123,26 +124,46 @@ pub(super) fn draw_zoomed(
     }
 }
 
-/// Puts each opened box's letter in its top left corner on the first panel (`view`), on a
-/// pale backing so that the rays under it do not cross it.
+/// Puts each opened box's letter on the first panel (`view`): inside a corner of its box,
+/// the top left first, wherever it is clear of the other letters and of the root's name
+/// (`root`, its box); further along the box's top edge when boxes coincide seen from above.
+/// On a pale backing, so that the rays under it do not cross it.
 pub(super) fn letter_boxes(
     c: &mut Canvas,
     view: &Panel,
     opened: &[(usize, usize)],
     nodes: &[Node],
+    root: Box2,
 ) {
+    let (x0, y0) = view.at;
+    let mut labels = Labels::new([x0, y0, x0 + view.size.0, y0 + view.size.1]);
+    labels.block(root);
     for (i, &(node, lane)) in opened.iter().enumerate() {
         let b = nodes[node].bounds(lane);
         let (p, q) = (view.map(b.min), view.map(b.max));
-        let at = (p.0.min(q.0) + 5.0, p.1.min(q.1) + 10.0);
+        let (min, max) = ((p.0.min(q.0), p.1.min(q.1)), (p.0.max(q.0), p.1.max(q.1)));
+        let mut candidates = vec![
+            ((min.0 + 5.0, min.1 + 10.0), Anchor::Left),
+            ((max.0 - 5.0, min.1 + 10.0), Anchor::Right),
+            ((min.0 + 5.0, max.1 - 10.0), Anchor::Left),
+            ((max.0 - 5.0, max.1 - 10.0), Anchor::Right),
+        ];
+        for step in 1..6 {
+            let dx = 16.0 * step as f32;
+            candidates.push(((min.0 + 5.0 + dx, min.1 + 10.0), Anchor::Left));
+            candidates.push(((min.0 + 5.0 + dx, max.1 - 10.0), Anchor::Left));
+        }
         let text = letter(i).to_string();
-        let w = Canvas::text_width(&text, 12.0);
+        let Some((at, anchor)) = labels.reserve(&candidates, &text, 12.0, true) else {
+            continue;
+        };
+        let [bx0, by0, bx1, by1] = text_box(at, &text, 12.0, anchor);
         c.rect(
-            (at.0 - 2.0, at.1 - 8.0),
-            (w + 4.0, 16.0),
+            (bx0, by0),
+            (bx1 - bx0, by1 - by0),
             None,
             Some(style::rgba(255, 255, 255, 225)),
         );
-        c.text(at, &text, 12.0, style::ink(), Anchor::Left);
+        c.text(at, &text, 12.0, style::ink(), anchor);
     }
 }

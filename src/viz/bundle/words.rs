@@ -203,9 +203,17 @@ pub(super) fn pixels_caption(pixels: &[(u32, u32)]) -> String {
 }
 
 /// Which side of the figure the rays come in from (object-space x right, z down): the
-/// opposite of where their summed direction points.
+/// opposite of where their summed direction points; or, for rays within about 27° of
+/// straight down or up (y), that they come from above or below the figure.
 pub(super) fn coming_from(rays: &[Ray]) -> &'static str {
     let d: DVec3 = rays.iter().map(|r| r.dir).sum();
+    if d.x.hypot(d.z) < 0.5 * d.y.abs() {
+        return if d.y < 0.0 {
+            "above the figure, looking down"
+        } else {
+            "below the figure, looking up"
+        };
+    }
     match (d.x.abs() > d.z.abs(), d.x > 0.0, d.z > 0.0) {
         (true, true, _) => "left",
         (true, false, _) => "right",
