@@ -36,6 +36,22 @@ pub struct Transform {
     pub identity: bool,
 }
 
+/// Whether `m` has an inverse worth the name, whatever its size: its determinant is finite
+/// and not tiny beside the cube of its longest axis (the determinant of the linear part
+/// scaled to make that axis 1). So a uniform scale of 10⁻⁶ (a mesh modelled in the wrong
+/// unit) is as good as 1, and a scale that flattens one axis to 10⁻¹³ of the others is not,
+/// at any size.
+pub fn invertible(m: &DMat4) -> bool {
+    let linear = DMat3::from_mat4(*m);
+    let longest = linear
+        .x_axis
+        .length()
+        .max(linear.y_axis.length())
+        .max(linear.z_axis.length());
+    let det = m.determinant();
+    det.is_finite() && det.abs() > 1e-12 * longest.powi(3)
+}
+
 impl Transform {
     pub const IDENTITY: Transform = Transform {
         world_from_object: DMat4::IDENTITY,
@@ -46,8 +62,7 @@ impl Transform {
 
     /// Builds a transform. Returns `None` when the matrix cannot be inverted (a zero scale).
     pub fn new(world_from_object: DMat4) -> Option<Transform> {
-        let det = world_from_object.determinant();
-        if !det.is_finite() || det.abs() < 1e-12 {
+        if !invertible(&world_from_object) {
             return None;
         }
         let object_from_world = world_from_object.inverse();
@@ -204,5 +219,31 @@ mod tests {
         let expect = DVec3::new(0.5, 1.0, 0.0).normalize();
         assert!((n - expect).length() < 1e-12);
         assert!(Transform::new(DMat4::from_scale(DVec3::new(0.0, 1.0, 1.0))).is_none());
+    }
+
+    /// Invertibility does not depend on size: a uniform scale of 10⁻⁶ (a determinant of
+    /// 10⁻¹⁸) or 10⁶ is fine, far from the origin too; an axis 10⁻¹³ of the others (at
+    /// either size), a zero, a NaN, or two equal columns is not.
+    #[test]
+    fn invertible_whatever_the_scale() {
+        use super::invertible;
+        let s = |x: f64, y: f64, z: f64| DMat4::from_scale(DVec3::new(x, y, z));
+        assert!(invertible(&s(1e-6, 1e-6, 1e-6)));
+        assert!(invertible(&s(1e6, 1e6, 1e6)));
+        assert!(invertible(&s(1.0, 1e-6, 1.0)));
+        let far = DMat4::from_translation(DVec3::splat(1e6)) * s(1e-4, 1e-4, 1e-4);
+        assert!(invertible(&far));
+        assert!(Transform::new(s(1e-6, 1e-6, 1e-6)).is_some());
+        assert!(!invertible(&s(1.0, 1e-13, 1.0)));
+        assert!(!invertible(&s(1e-6, 1e-19, 1e-6)));
+        assert!(!invertible(&s(1.0, 0.0, 1.0)));
+        assert!(!invertible(&s(1.0, f64::NAN, 1.0)));
+        let flat = DMat4::from_cols(
+            glam::DVec4::X,
+            glam::DVec4::X,
+            glam::DVec4::Z,
+            glam::DVec4::W,
+        );
+        assert!(!invertible(&flat));
     }
 }

@@ -343,10 +343,9 @@ fn matrix(n: &Node) -> Result<DMat4> {
             ),
         ));
     }
-    let det = m.determinant();
-    if !det.is_finite() || det.abs() <= 1e-12 {
+    if !crate::math::invertible(&m) {
         return Err(n.err(
-            "the matrix is singular (its determinant is 0): it flattens everything in the group to nothing",
+            "the matrix is singular (its determinant is 0, or next to nothing beside its columns' lengths): it flattens everything in the group to nothing",
         ));
     }
     Ok(m)
