@@ -127,15 +127,18 @@ fn space(c: &mut Canvas, rays: &[Ray], w: &BundleWorking, bounds: Option<(f32, f
     );
     let (corner, far) = (a.min(b), a.max(b));
     let size = pt(far - corner);
+    // The box's corners in order round it: its edges join each to the next.
+    let corners = [
+        corner,
+        DVec2::new(far.x, corner.y),
+        far,
+        DVec2::new(corner.x, far.y),
+    ];
+    let edge = |i: usize| (pt(corners[i]), pt(corners[(i + 1) % 4]));
     if w.kept == Some(false) {
-        let pts = [
-            corner,
-            DVec2::new(far.x, corner.y),
-            far,
-            DVec2::new(corner.x, far.y),
-        ];
         for i in 0..4 {
-            c.line(pt(pts[i]), pt(pts[(i + 1) % 4]), style::tossed(), 1.6, true);
+            let (p, q) = edge(i);
+            c.line(p, q, style::tossed(), 1.6, true);
         }
     } else {
         c.rect(
@@ -216,14 +219,9 @@ fn space(c: &mut Canvas, rays: &[Ray], w: &BundleWorking, bounds: Option<(f32, f
     for (a, b) in drawn.iter().flatten() {
         off_rays.block_segment(pt(*a), pt(*b), 2.0);
     }
-    let edges = [
-        corner,
-        DVec2::new(far.x, corner.y),
-        far,
-        DVec2::new(corner.x, far.y),
-    ];
     for i in 0..4 {
-        off_rays.block_segment(pt(edges[i]), pt(edges[(i + 1) % 4]), 1.5);
+        let (p, q) = edge(i);
+        off_rays.block_segment(p, q, 1.5);
     }
     if let Some((entry, exit)) = bounds {
         for (t, name) in [(entry, "entry bound"), (exit, "exit bound")] {
