@@ -36,20 +36,23 @@ pub struct Transform {
     pub identity: bool,
 }
 
-/// Whether `m` has an inverse worth the name, whatever its size: its determinant is finite
-/// and not tiny beside the cube of its longest axis (the determinant of the linear part
-/// scaled to make that axis 1). So a uniform scale of 10⁻⁶ (a mesh modelled in the wrong
-/// unit) is as good as 1, and a scale that flattens one axis to 10⁻¹³ of the others is not,
-/// at any size.
+/// Whether `m`'s linear part (its upper 3×3, what the ray directions go through) has an
+/// inverse worth the name, whatever its size: every axis (column) finite and at least
+/// 10⁻¹² of the longest, and the axes far from lying in one plane (the determinant more
+/// than 10⁻¹² of the product of their lengths, Hadamard's bound, which it reaches when
+/// they are at right angles). So a uniform scale of 10⁻⁶ (a mesh modelled in the wrong
+/// unit) is as good as 1, and so is a thin rod (1, 10⁻⁶, 10⁻⁶); an axis flattened to
+/// 10⁻¹³ of the longest, a zero scale, or two axes along one line, is not.
 pub fn invertible(m: &DMat4) -> bool {
     let linear = DMat3::from_mat4(*m);
-    let longest = linear
-        .x_axis
-        .length()
-        .max(linear.y_axis.length())
-        .max(linear.z_axis.length());
-    let det = m.determinant();
-    det.is_finite() && det.abs() > 1e-12 * longest.powi(3)
+    let lengths = [linear.x_axis, linear.y_axis, linear.z_axis].map(|a| a.length());
+    let longest = lengths[0].max(lengths[1]).max(lengths[2]);
+    let shortest = lengths[0].min(lengths[1]).min(lengths[2]);
+    let det = linear.determinant();
+    det.is_finite()
+        && longest.is_finite()
+        && shortest >= 1e-12 * longest
+        && det.abs() > 1e-12 * lengths.iter().product::<f64>()
 }
 
 impl Transform {
@@ -222,8 +225,8 @@ mod tests {
     }
 
     /// Invertibility does not depend on size: a uniform scale of 10⁻⁶ (a determinant of
-    /// 10⁻¹⁸) or 10⁶ is fine, far from the origin too; an axis 10⁻¹³ of the others (at
-    /// either size), a zero, a NaN, or two equal columns is not.
+    /// 10⁻¹⁸) or 10⁶ is fine, far from the origin too, and so are thin rods; an axis 10⁻¹³
+    /// of the longest (at either size), a zero, a NaN, or two equal columns is not.
     #[test]
     fn invertible_whatever_the_scale() {
         use super::invertible;
@@ -234,8 +237,15 @@ mod tests {
         let far = DMat4::from_translation(DVec3::splat(1e6)) * s(1e-4, 1e-4, 1e-4);
         assert!(invertible(&far));
         assert!(Transform::new(s(1e-6, 1e-6, 1e-6)).is_some());
+        assert!(invertible(&s(1.0, 1e-6, 1e-6)), "a thin rod");
+        assert!(invertible(&s(1000.0, 1e-3, 1e-3)), "a long thin rod");
         assert!(!invertible(&s(1.0, 1e-13, 1.0)));
         assert!(!invertible(&s(1e-6, 1e-19, 1e-6)));
+        let huge = DMat4::from_translation(DVec3::splat(1e300)) * s(1e10, 1e10, 1e10);
+        assert!(
+            invertible(&huge),
+            "a translation does not enter the linear part"
+        );
         assert!(!invertible(&s(1.0, 0.0, 1.0)));
         assert!(!invertible(&s(1.0, f64::NAN, 1.0)));
         let flat = DMat4::from_cols(

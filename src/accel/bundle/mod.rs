@@ -221,8 +221,9 @@ impl<'r> RayBundle<'r> {
     }
 
     // ANCHOR: interval_test
-    /// The interval test: the node's four boxes against the whole bundle. Returns the lanes
-    /// (boxes) some ray may enter: a box left out is missed by every ray.
+    /// The interval test: the node's four boxes against the whole bundle. Returns the child
+    /// slots (bit k: the box in slot k) some ray may enter: a box left out is missed by
+    /// every ray.
     ///
     /// Along an axis with a positive direction a ray enters at (lo − o)·(1/d). Over the
     /// bundle, (lo − o) is smallest for the largest origin, and the product of that fixed
@@ -260,9 +261,8 @@ impl<'r> RayBundle<'r> {
 
     // ANCHOR: lane_test
     /// The lane test: the node's box in child slot `slot` (0 to 3) against all sixteen
-    /// rays, each within its own
-    /// [t_min, t_max]. Bit i is exactly what ray i's own slab test ([`Node::enter`]) says
-    /// of that box: the same operations in the same order, one lane per ray. (`SHARED`:
+    /// rays, each within its own [t_min, t_max]. Bit i is exactly what ray i's own slab
+    /// test ([`Node::enter`]) says of that box: the same operations in the same order, one lane per ray. (`SHARED`:
     /// every ray starts at the same point, so the plane minus the origin is one number.)
     /// Returns the rays of `rays` that enter, and the earliest entry among them.
     #[inline(always)]
@@ -334,9 +334,10 @@ pub trait BundleLeaf {
 
     /// Does `seen` want to hear of every child the bundle tests (for figures)?
     const SEES: bool = false;
-    /// Child `lane` of the opened node `node`, and the rays that enter it (0: culled).
+    /// The child in slot `slot` of the opened node `node`, and the rays that enter it (0:
+    /// culled).
     #[inline(always)]
-    fn seen(&mut self, _node: usize, _lane: usize, _rays: u32) {}
+    fn seen(&mut self, _node: usize, _slot: usize, _rays: u32) {}
 }
 
 /// What a shadow-ray bundle asks of the primitives in its leaves.

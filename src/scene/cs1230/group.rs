@@ -345,7 +345,7 @@ fn matrix(n: &Node) -> Result<DMat4> {
     }
     if !crate::math::invertible(&m) {
         return Err(n.err(
-            "the matrix is singular (its determinant is 0, or next to nothing beside its columns' lengths): it flattens everything in the group to nothing",
+            "the matrix is singular or nearly so (an axis of it zero, under 10^-12 of the longest, or in the plane of the other two): it flattens everything in the group to nothing",
         ));
     }
     Ok(m)

@@ -326,8 +326,8 @@ impl<W: Wide, S: FnMut(usize, usize, u32)> BundleLeaf for ClosestLeaf<'_, '_, W,
 
     const SEES: bool = true;
     #[inline(always)]
-    fn seen(&mut self, node: usize, lane: usize, rays: u32) {
-        (self.seen)(node, lane, rays)
+    fn seen(&mut self, node: usize, slot: usize, rays: u32) {
+        (self.seen)(node, slot, rays)
     }
 }
 

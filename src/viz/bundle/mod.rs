@@ -16,7 +16,7 @@ mod opened;
 mod panel;
 mod words;
 use opened::{draw_zoomed, letter_boxes};
-use panel::{culled_color, entered_fill, frustum_fill, Panel};
+use panel::{culled_color, entered_fill, frustum_fill, plated_text, Panel};
 use words::{coming_from, opened_at, pixels_caption, plural, unopened, wrap};
 
 /// Figure size in pixels.
@@ -242,11 +242,12 @@ pub fn draw_within(scene: &Scene, x: u32, y: u32, k: u32, max_plan: u64) -> Resu
     let bottom = FOOTER_STEP * footer.len() as f32 + 12.0;
 
     let mut c = Canvas::new(W as u32, H as u32, style::background());
-    // One panel per level: its frame, the boxes the bundle tested there, the root's outline
-    // around them, and the rays, every one clipped to the frame.
+    // One panel per level: the root's children over the root's outline, then each box the
+    // bundle opened among them on a frame of its own with its children; the bundle's
+    // frustum and rays over the boxes, every one clipped to its frame.
     for (level, (heading, note)) in headings.iter().enumerate() {
         let x0 = SIDE_MARGIN + level as f32 * (panel_w + GAP);
-        let view = Panel::fit(&b, (x0, top + drop), (panel_w, H - top - drop - bottom));
+        let area = ((x0, top + drop), (panel_w, H - top - drop - bottom));
         c.text(
             (x0, top + 8.0),
             heading,
@@ -263,41 +264,34 @@ pub fn draw_within(scene: &Scene, x: u32, y: u32, k: u32, max_plan: u64) -> Resu
                 Anchor::Left,
             );
         }
-        if level > 0 && !opened.is_empty() {
-            // The boxes opened one level up, each zoomed in its own part of the panel.
-            let area = ((x0, top + drop), (panel_w, H - top - drop - bottom));
-            let inset = CHILD_INSET;
-            draw_zoomed(&mut c, area, &opened, &tested, nodes, &rays, &hits, inset);
+        if level == 1 && !opened.is_empty() {
+            // The boxes opened in panel 1, each in its own part of the panel.
+            draw_zoomed(&mut c, area, &opened, &tested, nodes, (&rays, &hits));
             continue;
         }
+        // The root (and, when the bundle opened no box at the root, nothing below it).
+        let view = Panel::fit(&b, area.0, area.1);
         c.rect(view.at, view.size, Some((style::grid(), 1.0)), None);
         view.outline(&mut c, &b, style::muted(), 1.2, false);
         // The root's name, on a pale backing (the boxes' edges often run through it).
+        // (Drawn after the rays, with the letters of the boxes opened.)
         let root_label = (level == 0).then(|| {
             let (bx, by) = view.map(DVec3::new(b.min.x, 0.0, b.min.z));
-            let at = (bx + 4.0, by + 12.0);
-            crate::viz::labels::text_box(at, "root", 11.0, Anchor::Left)
+            (bx + 4.0, by + 12.0)
         });
-        // Culled boxes first, under the entered ones. Below the root's children, each box
-        // is drawn a little inside its edges, so that an edge it shares with its parent or a
-        // sibling (most of them) still shows as two lines, and the boxes can be counted.
-        let inset = if level > 0 { CHILD_INSET } else { 0.0 };
+        // Culled boxes first, under the entered ones.
         for want in [false, true] {
-            for &(node, lane, mask) in tested.iter().filter(|t| depth[t.0] == level) {
+            for &(node, slot, mask) in tested.iter().filter(|t| depth[t.0] == level) {
                 if (mask != 0) == want {
-                    view.level_box(&mut c, &nodes[node].bounds(lane), want, inset);
+                    view.level_box(&mut c, &nodes[node].bounds(slot), want, 0.0);
                 }
             }
         }
         // Under the rays, the bundle's frustum: the region of the panel its rays sweep.
         view.frustum(&mut c, &rays, &b);
         let crossed = view.rays(&mut c, &rays, &hits, &b);
-        if let Some(taken) = root_label {
-            let [x0, y0, x1, y1] = taken;
-            let plate = style::rgba(255, 255, 255, 225);
-            c.rect((x0, y0), (x1 - x0, y1 - y0), None, Some(plate));
-            let at = (x0 + 2.0, (y0 + y1) * 0.5);
-            c.text(at, "root", 11.0, style::muted(), Anchor::Left);
+        if let Some(at) = root_label {
+            let taken = plated_text(&mut c, at, "root", 11.0, style::muted(), Anchor::Left, 0.0);
             letter_boxes(&mut c, &view, &opened, nodes, taken);
         }
         if crossed == 0 {
@@ -312,15 +306,7 @@ pub fn draw_within(scene: &Scene, x: u32, y: u32, k: u32, max_plan: u64) -> Resu
                     cy + NOTE_STEP * (i as f32 - (lines.len() - 1) as f32 * 0.5),
                 );
                 // On a pale backing: the culled boxes' dashes run under it.
-                let [x0, y0, x1, y1] = crate::viz::labels::text_box(at, line, NOTE, Anchor::Center);
-                let backing = (x1 - x0 + 8.0, y1 - y0 + 2.0);
-                c.rect(
-                    (x0 - 4.0, y0 - 1.0),
-                    backing,
-                    None,
-                    Some(style::rgba(255, 255, 255, 225)),
-                );
-                c.text(at, line, NOTE, style::ink(), Anchor::Center);
+                plated_text(&mut c, at, line, NOTE, style::ink(), Anchor::Center, 4.0);
             }
         }
     }
@@ -381,8 +367,6 @@ pub fn draw_within(scene: &Scene, x: u32, y: u32, k: u32, max_plan: u64) -> Resu
 
 /// Figure layout: margins, the gap between the panels, the heights above and below them.
 const SIDE_MARGIN: f32 = 24.0;
-/// Pixels a box below the root's children is drawn inside its edges ([`Panel::level_box`]).
-const CHILD_INSET: f32 = 3.0;
 const GAP: f32 = 28.0;
 /// The footer's text size and line step.
 const FOOTER: f32 = 11.0;

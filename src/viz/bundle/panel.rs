@@ -2,7 +2,8 @@
 //! (boxes entered and culled, the bundle's frustum, its rays and hits), clipped to the
 //! panel's frame; and the figure's colours.
 
-use super::super::canvas::Canvas;
+use super::super::canvas::{Anchor, Canvas};
+use super::super::labels::{text_box, Box2};
 use super::super::style;
 use crate::math::Ray;
 use crate::shapes::{Aabb, LocalHit};
@@ -42,10 +43,34 @@ pub(super) fn culled_color() -> tiny_skia::Color {
     style::rgb(110, 110, 120)
 }
 
-/// The outline of a box opened one level up, drawn over its children: dark enough to read
-/// on their blue edges, solid (dashes are the culled boxes').
+/// The outline of a box the bundle opened, drawn on its own frame under its children: dark
+/// enough to tell from their blue edges, solid (dashes are the culled boxes').
 pub(super) fn opened_color() -> tiny_skia::Color {
     style::rgba(50, 50, 60, 190)
+}
+
+/// Draws `text` on a pale plate (its box, `pad` pixels wider each side and 1 taller, unless
+/// `pad` is 0), so that the lines under it do not cross its letters; returns the plate.
+pub(super) fn plated_text(
+    c: &mut Canvas,
+    at: (f32, f32),
+    text: &str,
+    size: f32,
+    color: tiny_skia::Color,
+    anchor: Anchor,
+    pad: f32,
+) -> Box2 {
+    let [x0, y0, x1, y1] = text_box(at, text, size, anchor);
+    let grow = (pad, if pad > 0.0 { 1.0 } else { 0.0 });
+    let plate = [x0 - grow.0, y0 - grow.1, x1 + grow.0, y1 + grow.1];
+    c.rect(
+        (plate[0], plate[1]),
+        (plate[2] - plate[0], plate[3] - plate[1]),
+        None,
+        Some(style::rgba(255, 255, 255, 225)),
+    );
+    c.text(at, text, size, color, anchor);
+    plate
 }
 
 /// One panel: the mesh's box (x right, z down) and a margin around it, fitted into a

@@ -224,8 +224,35 @@ pub(super) fn coming_from(rays: &[Ray]) -> &'static str {
 
 #[cfg(test)]
 mod tests {
-    use super::{opened_at, Unopened};
+    use super::{coming_from, opened_at, Unopened};
     use crate::accel::{Node, WIDTH};
+    use crate::math::Ray;
+    use glam::DVec3;
+
+    /// Rays within about 27° of straight down come from above the figure, of straight up
+    /// from below; past that, from the side their directions leave (x right, z down).
+    #[test]
+    fn the_rays_come_from_a_side_or_from_above_or_below() {
+        let from = |d: DVec3| coming_from(&[Ray::new(DVec3::ZERO, d)]);
+        assert_eq!(
+            from(DVec3::new(0.1, -1.0, 0.2)),
+            "above the figure, looking down"
+        );
+        assert_eq!(
+            from(DVec3::new(0.1, 1.0, 0.2)),
+            "below the figure, looking up"
+        );
+        assert_eq!(from(DVec3::new(0.0, -0.4, -1.0)), "bottom");
+        assert_eq!(from(DVec3::new(0.0, -0.4, 1.0)), "top");
+        assert_eq!(from(DVec3::new(1.0, 0.3, 0.2)), "left");
+        assert_eq!(from(DVec3::new(-1.0, 0.3, 0.2)), "right");
+        // At the boundary, |(x, z)| = |y| / 2: a side; just inside it, above.
+        assert_eq!(from(DVec3::new(0.0, -2.0, -1.0)), "bottom");
+        assert_eq!(
+            from(DVec3::new(0.0, -2.0, -0.999)),
+            "above the figure, looking down"
+        );
+    }
 
     /// Of the root's entered children, only the inner one the bundle went on to open is an
     /// opened box: not a culled one, not a leaf, not a subtree its rays walked alone.

@@ -214,14 +214,14 @@ fn space(c: &mut Canvas, rays: &[Ray], w: &BundleWorking, bounds: Option<(f32, f
     // The bounds: where each ray is at t = bound, joined across the bundle; left out when
     // some ray is out of the panel by then, or when the front is a point (t = 0 at a
     // shared P: the right panel shows it).
-    // And off the box's edges: a plate on an edge cuts the box open.
+    // And off the box's edges, wherever they go: a plate on an edge cuts the box open.
+    for i in 0..4 {
+        let (p, q) = edge(i);
+        labels.block_segment(p, q, 1.5);
+    }
     let mut off_rays = labels.clone();
     for (a, b) in drawn.iter().flatten() {
         off_rays.block_segment(pt(*a), pt(*b), 2.0);
-    }
-    for i in 0..4 {
-        let (p, q) = edge(i);
-        off_rays.block_segment(p, q, 1.5);
     }
     if let Some((entry, exit)) = bounds {
         for (t, name) in [(entry, "entry bound"), (exit, "exit bound")] {
