@@ -153,15 +153,7 @@ fn a_clipped_block_is_captioned_by_its_pixels_and_drawn_inside_its_panels() {
 fn the_headings_say_what_the_walk_did() {
     let texts = |c: &rtlab::viz::canvas::Canvas| c.texts().join("\n");
     let root_children = |s: &rtlab::scene::Scene| {
-        let mesh = s
-            .objects
-            .iter()
-            .find_map(|o| match &o.shape {
-                rtlab::shapes::Shape::Mesh(m) => Some(m),
-                _ => None,
-            })
-            .unwrap();
-        let root = &mesh.bvh.nodes[0];
+        let root = &first_mesh(s).bvh.nodes[0];
         (0..rtlab::accel::WIDTH)
             .filter(|&l| root.planes[0][0][l] <= root.planes[1][0][l])
             .count()
@@ -324,6 +316,17 @@ fn texts_fit(c: &rtlab::viz::canvas::Canvas) {
     }
 }
 
+/// The scene's first mesh (the one the bundle figure draws).
+fn first_mesh(s: &rtlab::scene::Scene) -> &rtlab::shapes::Mesh {
+    s.objects
+        .iter()
+        .find_map(|o| match &o.shape {
+            rtlab::shapes::Shape::Mesh(m) => Some(m),
+            _ => None,
+        })
+        .expect("a mesh")
+}
+
 fn scene_teapot() -> rtlab::scene::Scene {
     scene("scenes/teapot.json")
 }
@@ -363,15 +366,7 @@ fn panel_two_draws_each_box_opened_on_its_own() {
     let heading = counts("2. One level down, in the boxes opened: ");
     assert_eq!((a.0 + b.0, a.1 + b.1), heading, "{all}");
     // A's children are the node it opened: as many as that node has boxes.
-    let mesh = small
-        .objects
-        .iter()
-        .find_map(|o| match &o.shape {
-            rtlab::shapes::Shape::Mesh(m) => Some(m),
-            _ => None,
-        })
-        .unwrap();
-    let nodes = &mesh.bvh.nodes;
+    let nodes = &first_mesh(&small).bvh.nodes;
     let opened: Vec<usize> = (0..rtlab::accel::WIDTH)
         .filter(|&s| !nodes[0].is_empty(s) && nodes[0].count[s] == 0)
         .map(|s| nodes[0].child[s] as usize)
