@@ -69,6 +69,10 @@ impl Transform {
             return None;
         }
         let object_from_world = world_from_object.inverse();
+        // A matrix whose last row is not (0, 0, 0, 1) may still have no inverse.
+        if !object_from_world.is_finite() {
+            return None;
+        }
         let normal_to_world = DMat3::from_mat4(object_from_world).transpose();
         Some(Transform {
             world_from_object,
@@ -255,5 +259,8 @@ mod tests {
             glam::DVec4::W,
         );
         assert!(!invertible(&flat));
+        let mut no_w = DMat4::IDENTITY;
+        no_w.w_axis = glam::DVec4::ZERO;
+        assert!(Transform::new(no_w).is_none(), "a last row of zeros");
     }
 }
