@@ -167,6 +167,18 @@ pub fn around_rings(p: (f32, f32), gap: f32) -> Vec<((f32, f32), Anchor)> {
     v
 }
 
+/// How a label set off a line in direction x = `ox` (of a unit offset) hangs from its
+/// point: to the right of it (anchored left), to the left, or centred above or below.
+pub fn side_anchor(ox: f32) -> Anchor {
+    if ox > 0.35 {
+        Anchor::Left
+    } else if ox < -0.35 {
+        Anchor::Right
+    } else {
+        Anchor::Center
+    }
+}
+
 /// Candidate positions beside a segment a→b: at its middle, then at a third and two thirds,
 /// on either side (`gap` pixels off the line).
 pub fn beside(a: (f32, f32), b: (f32, f32), gap: f32) -> Vec<((f32, f32), Anchor)> {
@@ -183,13 +195,7 @@ pub fn beside(a: (f32, f32), b: (f32, f32), gap: f32) -> Vec<((f32, f32), Anchor
         let m = (a.0 + dx * f, a.1 + dy * f);
         for s in [1.0f32, -1.0] {
             let (ox, oy) = (nx * s, ny * s);
-            let anchor = if ox > 0.35 {
-                Anchor::Left
-            } else if ox < -0.35 {
-                Anchor::Right
-            } else {
-                Anchor::Center
-            };
+            let anchor = side_anchor(ox);
             let extra = if anchor == Anchor::Center { 5.0 } else { 0.0 };
             out.push(((m.0 + ox * gap, m.1 + oy * (gap + extra)), anchor));
         }

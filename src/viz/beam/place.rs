@@ -151,11 +151,7 @@ pub(super) fn beside(a: (f32, f32), b: (f32, f32), eye: (f32, f32)) -> Vec<((f32
             for f in [0.5f32, 0.35, 0.65, 0.2, 0.8, 0.08, 0.92] {
                 let m = (a.0 + dx * f, a.1 + dy * f);
                 let (ox, oy) = (nx * side, ny * side);
-                let anchor = match ox {
-                    x if x > 0.35 => Anchor::Left,
-                    x if x < -0.35 => Anchor::Right,
-                    _ => Anchor::Center,
-                };
+                let anchor = crate::viz::labels::side_anchor(ox);
                 let gap = if anchor == Anchor::Center { 14.0 } else { 9.0 } + further;
                 out.push(((m.0 + ox * gap, m.1 + oy * gap), anchor));
             }
